@@ -1,0 +1,27 @@
+//! flexfmu: flexible bodies as FMI 2.0 Co-Simulation units.
+//!
+//! A scene file (TOML, see [`scene`]) describes a flexible body, its supports, loads and coupling
+//! ports. The same scene drives the generated `modelDescription.xml` ([`model_description`]),
+//! the variable table ([`variables`]) and, inside the shared library, the simulation
+//! ([`instance`]). The C ABI lives in [`fmi2`], the only module with `unsafe` code.
+//!
+//! Physics: element kernels in [`elements`], global assembly in [`assembly`], linear algebra in
+//! [`linalg`], static and dynamic solvers in [`solver`] and [`integrators`], and the
+//! scene-specific models in [`model`].
+#![warn(missing_docs)]
+#![deny(unsafe_op_in_unsafe_fn)]
+
+pub mod assembly;
+pub mod elements;
+pub mod fmi2;
+pub mod guid;
+pub mod instance;
+pub mod integrators;
+pub mod linalg;
+pub mod logging;
+pub mod model;
+pub mod model_description;
+pub mod packaging;
+pub mod scene;
+pub mod solver;
+pub mod variables;

@@ -1,0 +1,8 @@
+//! Discretised models built from scenes, and the interface the solvers see.
+
+pub mod beam2d;
+mod factory;
+mod system;
+
+pub use factory::build_model;
+pub use system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};

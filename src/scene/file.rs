@@ -1,0 +1,343 @@
+//! The TOML scene format (deserialized with serde; unknown keys are errors).
+//!
+//! Table and key names mirror the FMU variable names: `[material] E` becomes the parameter
+//! `material.E`, `[[loads]] name = "load"` the inputs `load.fx`, `load.fy`, and so on.
+
+use serde::Deserialize;
+
+/// A whole scene file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// FMU identity.
+    pub fmu: FmuSection,
+    /// Default experiment written into the model description.
+    #[serde(default)]
+    pub experiment: ExperimentSection,
+    /// Element type and options.
+    pub element: ElementSection,
+    /// Mesh.
+    pub mesh: MeshSection,
+    /// Geometry of the body.
+    pub geometry: GeometrySection,
+    /// Material.
+    pub material: MaterialSection,
+    /// Gravity (omit for none: then no gravity parameters are exposed).
+    #[serde(default)]
+    pub gravity: Option<GravitySection>,
+    /// Solver settings (all exposed as `solver.*` parameters).
+    #[serde(default)]
+    pub solver: SolverSection,
+    /// Supports.
+    #[serde(default)]
+    pub supports: Vec<SupportSpec>,
+    /// Point loads: force inputs.
+    #[serde(default)]
+    pub loads: Vec<LoadSpec>,
+    /// Probes: position/velocity outputs at points of the body.
+    #[serde(default)]
+    pub probes: Vec<ProbeSpec>,
+    /// Further outputs.
+    #[serde(default)]
+    pub outputs: OutputsSection,
+}
+
+/// `[fmu]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FmuSection {
+    /// `modelName` and `modelIdentifier` (file name of the shared library); letters, digits
+    /// and underscores.
+    pub model_name: String,
+    /// Free text for the `description` attribute.
+    #[serde(default)]
+    pub description: String,
+}
+
+/// `[experiment]`: the DefaultExperiment.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentSection {
+    /// [s]
+    #[serde(default)]
+    pub start_time: f64,
+    /// [s]
+    #[serde(default = "default_stop_time")]
+    pub stop_time: f64,
+    /// Suggested communication step [s].
+    #[serde(default = "default_step_size")]
+    pub step_size: f64,
+}
+
+fn default_stop_time() -> f64 {
+    1.0
+}
+fn default_step_size() -> f64 {
+    1e-3
+}
+
+impl Default for ExperimentSection {
+    fn default() -> Self {
+        Self {
+            start_time: 0.0,
+            stop_time: default_stop_time(),
+            step_size: default_step_size(),
+        }
+    }
+}
+
+/// Element families known to flexfmu.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ElementType {
+    /// Seed 000: linear shear-deformable 2D ANCF beam (4 coordinates per node).
+    #[serde(rename = "ancf_shear_2d")]
+    AncfShear2d,
+}
+
+/// `[element]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ElementSection {
+    /// Element family.
+    #[serde(rename = "type")]
+    pub kind: ElementType,
+    /// 1 = original 1x1 shear integration, 2 = the 1x2 fix (default).
+    #[serde(default = "default_shear_rule")]
+    pub shear_rule: i32,
+    /// 1 = Eq. 12 (default), 2 = Lamé form of Eqs. 10–11.
+    #[serde(default = "default_strain_energy")]
+    pub strain_energy: i32,
+    /// Shear correction factor k_s of Eq. 12.
+    #[serde(default = "default_shear_coefficient")]
+    pub shear_coefficient: f64,
+}
+
+fn default_shear_rule() -> i32 {
+    2
+}
+fn default_strain_energy() -> i32 {
+    1
+}
+fn default_shear_coefficient() -> f64 {
+    5.0 / 6.0
+}
+
+/// `[mesh]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSection {
+    /// Number of elements along the body.
+    pub n_elements: i64,
+}
+
+/// `[geometry]`: a straight rectangular beam.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeometrySection {
+    /// [m]
+    pub length: f64,
+    /// Out-of-plane width [m].
+    pub width: f64,
+    /// Height [m].
+    pub height: f64,
+    /// Position of the first end [m] (not a parameter).
+    #[serde(default)]
+    pub origin: [f64; 2],
+    /// Direction of the axis, counter-clockwise from +x [deg] (not a parameter).
+    #[serde(default)]
+    pub angle_deg: f64,
+}
+
+/// `[material]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct MaterialSection {
+    /// Young's modulus [Pa].
+    pub E: f64,
+    /// Poisson's ratio [1].
+    pub nu: f64,
+    /// Density [kg/m3].
+    pub rho: f64,
+}
+
+/// `[gravity]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GravitySection {
+    /// [m/s2]
+    #[serde(default)]
+    pub x: f64,
+    /// [m/s2]
+    #[serde(default)]
+    pub y: f64,
+}
+
+/// Integer code or name of a choice parameter.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum Choice {
+    /// The integer code of the FMU parameter.
+    Code(i64),
+    /// A name, e.g. `"newmark"`.
+    Name(String),
+}
+
+/// `[solver]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSection {
+    /// Solve the static equilibrium during initialization.
+    #[serde(default)]
+    pub static_equilibrium: bool,
+    /// Time integrator: `"generalized_alpha"` (1) or `"newmark"` (2).
+    #[serde(default = "default_integrator")]
+    pub integrator: Choice,
+    /// Spectral radius at infinite frequency for generalized-alpha, in [0, 1].
+    #[serde(default = "default_rho_inf")]
+    pub rho_inf: f64,
+    /// Largest internal step [s].
+    #[serde(default = "default_max_step")]
+    pub max_step: f64,
+    /// Newton tolerance on the scaled increment [1].
+    #[serde(default = "default_newton_tolerance")]
+    pub newton_tolerance: f64,
+    /// Newton iterations per solve before the step or load increment is cut.
+    #[serde(default = "default_max_iterations")]
+    pub max_iterations: i64,
+    /// Initial number of load increments of the static solve.
+    #[serde(default = "default_load_steps")]
+    pub load_steps: i64,
+    /// `"auto"` (0), `"banded"` (1) or `"sparse_lu"` (2).
+    #[serde(default = "default_linear_solver")]
+    pub linear_solver: Choice,
+}
+
+fn default_integrator() -> Choice {
+    Choice::Name("newmark".into())
+}
+fn default_rho_inf() -> f64 {
+    0.9
+}
+fn default_max_step() -> f64 {
+    1e-3
+}
+fn default_newton_tolerance() -> f64 {
+    1e-10
+}
+fn default_max_iterations() -> i64 {
+    25
+}
+fn default_load_steps() -> i64 {
+    1
+}
+fn default_linear_solver() -> Choice {
+    Choice::Name("auto".into())
+}
+
+impl Default for SolverSection {
+    fn default() -> Self {
+        Self {
+            static_equilibrium: false,
+            integrator: default_integrator(),
+            rho_inf: default_rho_inf(),
+            max_step: default_max_step(),
+            newton_tolerance: default_newton_tolerance(),
+            max_iterations: default_max_iterations(),
+            load_steps: default_load_steps(),
+            linear_solver: default_linear_solver(),
+        }
+    }
+}
+
+/// Kind of support.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SupportKind {
+    /// Position and gradient fixed.
+    Clamp,
+    /// Position fixed.
+    Pin,
+    /// One position component fixed (`fixed = "x"` or `"y"`).
+    Roller,
+}
+
+/// A global direction.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Axis {
+    /// Global x.
+    X,
+    /// Global y.
+    Y,
+}
+
+/// `[[supports]]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportSpec {
+    /// Clamp, pin or roller.
+    pub kind: SupportKind,
+    /// Location as a fraction of the length, in [0, 1]; must fall on a node.
+    pub at: f64,
+    /// For a roller: the fixed direction.
+    #[serde(default)]
+    pub fixed: Option<Axis>,
+}
+
+/// `[[loads]]`: a force input at a point of the centre line.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    /// Variable prefix (`<name>.fx`, `<name>.fy`).
+    pub name: String,
+    /// Location as a fraction of the length, in [0, 1].
+    pub at: f64,
+    /// Start value of the x force [N].
+    #[serde(default)]
+    pub fx: f64,
+    /// Start value of the y force [N].
+    #[serde(default)]
+    pub fy: f64,
+}
+
+/// Quantities a probe can output.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ProbeQuantity {
+    /// Position x [m].
+    X,
+    /// Position y [m].
+    Y,
+    /// Velocity x [m/s].
+    Vx,
+    /// Velocity y [m/s].
+    Vy,
+}
+
+/// `[[probes]]`: outputs at a point of the centre line.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec {
+    /// Variable prefix (`<name>.x`, ...).
+    pub name: String,
+    /// Location as a fraction of the length, in [0, 1].
+    pub at: f64,
+    /// Which quantities (default: x and y).
+    #[serde(default = "default_probe_quantities")]
+    pub outputs: Vec<ProbeQuantity>,
+}
+
+fn default_probe_quantities() -> Vec<ProbeQuantity> {
+    vec![ProbeQuantity::X, ProbeQuantity::Y]
+}
+
+/// `[outputs]`
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputsSection {
+    /// Expose `energy.kinetic`, `energy.potential`, `energy.strain`, `energy.total` [J].
+    #[serde(default)]
+    pub energy: bool,
+}
