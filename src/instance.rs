@@ -1,1 +1,679 @@
-//! Placeholder
+//! A safe FMI 2.0 Co-Simulation instance. The C shims in [`crate::fmi2`] check pointers and
+//! forward here; every method enforces the state machine, logs the reason of any non-OK
+//! status through the importer's logger, and returns the fmi2Status.
+
+use crate::fmi2::state_machine::{Call, State};
+use crate::logging::{LogFilter, Status, status_category};
+use crate::model::build_model;
+use crate::model_description::scene_guid;
+use crate::scene::params::ParamVariability;
+use crate::scene::{ParamValues, Scene};
+use crate::solver::newton::NewtonSettings;
+use crate::solver::simulation::{Simulation, SolverConfig};
+use crate::variables::{Causality, Role, Value, VarType, Variability, Variable, VariableTable};
+use std::path::{Path, PathBuf};
+
+/// Receives every message that passes the log filter: status, category, text.
+pub type LogSink = Box<dyn FnMut(Status, &str, &str)>;
+
+/// Status kinds of fmi2Get*Status.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StatusKind {
+    /// fmi2DoStepStatus
+    DoStepStatus,
+    /// fmi2PendingStatus
+    PendingStatus,
+    /// fmi2LastSuccessfulTime
+    LastSuccessfulTime,
+    /// fmi2Terminated
+    Terminated,
+}
+
+/// The scene file inside an FMU's resources.
+pub const SCENE_FILE: &str = "scene.toml";
+
+/// Turns an `fmuResourceLocation` URI (`file:///…`, `file://localhost/…`, `file:/…`) or a
+/// plain path into a directory path, decoding `%XX` escapes.
+pub fn resource_dir_from_uri(uri: &str) -> Result<PathBuf, String> {
+    let rest = if let Some(r) = uri.strip_prefix("file://localhost/") {
+        format!("/{r}")
+    } else if let Some(r) = uri.strip_prefix("file:///") {
+        format!("/{r}")
+    } else if let Some(r) = uri.strip_prefix("file://") {
+        return Err(format!(
+            "fmuResourceLocation \"{uri}\": remote host \"{}\" not supported",
+            r.split('/').next().unwrap_or("")
+        ));
+    } else if let Some(r) = uri.strip_prefix("file:") {
+        r.to_string()
+    } else if uri.contains("://") {
+        return Err(format!(
+            "fmuResourceLocation \"{uri}\": only file URIs are supported"
+        ));
+    } else {
+        uri.to_string()
+    };
+    let bytes = rest.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            let hex = std::str::from_utf8(&bytes[i + 1..i + 3]).unwrap_or("zz");
+            if let Ok(b) = u8::from_str_radix(hex, 16) {
+                out.push(b);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(bytes[i]);
+        i += 1;
+    }
+    let s =
+        String::from_utf8(out).map_err(|_| format!("fmuResourceLocation \"{uri}\": not UTF-8"))?;
+    Ok(PathBuf::from(s))
+}
+
+/// One FMU instance.
+pub struct Instance {
+    name: String,
+    scene: Scene,
+    vars: VariableTable,
+    values: Vec<Value>,
+    logging_on_at_start: bool,
+    filter: LogFilter,
+    sink: LogSink,
+    state: State,
+    start_time: f64,
+    sim: Option<Simulation>,
+    /// Parameters or inputs changed since the simulation was built (Initialization Mode).
+    dirty: bool,
+    last_successful_time: f64,
+    terminated: bool,
+    last_step_status: Status,
+}
+
+impl std::fmt::Debug for Instance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Instance")
+            .field("name", &self.name)
+            .field("state", &self.state)
+            .finish()
+    }
+}
+
+impl Instance {
+    /// fmi2Instantiate for Co-Simulation: reads the scene from the resource directory and
+    /// checks the GUID. On error the message explains why (the caller logs it).
+    pub fn new(
+        name: &str,
+        guid: &str,
+        resource_dir: &Path,
+        logging_on: bool,
+        sink: LogSink,
+    ) -> Result<Self, String> {
+        let path = resource_dir.join(SCENE_FILE);
+        let scene = Scene::from_path(&path).map_err(|e| e.0)?;
+        let expected = scene_guid(&scene);
+        if guid != expected {
+            return Err(format!(
+                "GUID mismatch: the importer passed {guid} but the FMU's scene has {expected} (modelDescription.xml and resources/{SCENE_FILE} do not belong together)"
+            ));
+        }
+        Ok(Self::from_scene(name, scene, logging_on, sink))
+    }
+
+    /// An instance of an already parsed scene (no GUID check).
+    pub fn from_scene(name: &str, scene: Scene, logging_on: bool, sink: LogSink) -> Self {
+        let vars = VariableTable::from_scene(&scene);
+        let values = vars
+            .vars()
+            .iter()
+            .map(|v| v.start.unwrap_or(Value::Real(0.0)))
+            .collect();
+        let mut inst = Self {
+            name: name.to_string(),
+            scene,
+            vars,
+            values,
+            logging_on_at_start: logging_on,
+            filter: LogFilter::new(logging_on),
+            sink,
+            state: State::Instantiated,
+            start_time: 0.0,
+            sim: None,
+            dirty: true,
+            last_successful_time: 0.0,
+            terminated: false,
+            last_step_status: Status::Ok,
+        };
+        inst.info(format!(
+            "instantiated \"{}\" ({} variables)",
+            inst.scene.model_name(),
+            inst.vars.vars().len()
+        ));
+        inst
+    }
+
+    /// Instance name given at instantiation.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Current state.
+    pub fn state(&self) -> State {
+        self.state
+    }
+
+    /// The variable table.
+    pub fn variables(&self) -> &VariableTable {
+        &self.vars
+    }
+
+    /// Delivers a message if the filter lets it pass.
+    pub fn log(&mut self, status: Status, category: &str, msg: &str) {
+        if self.filter.passes(status, category) {
+            (self.sink)(status, category, msg);
+        }
+    }
+
+    fn info(&mut self, msg: impl AsRef<str>) {
+        self.log(Status::Ok, "logEvents", msg.as_ref());
+    }
+
+    /// Logs an error, enters the Error state and returns fmi2Error.
+    pub fn error(&mut self, msg: impl AsRef<str>) -> Status {
+        self.log(Status::Error, status_category(Status::Error), msg.as_ref());
+        if self.state != State::Fatal {
+            self.state = State::Error;
+        }
+        Status::Error
+    }
+
+    /// After a panic inside a call: log, enter Fatal, return fmi2Fatal.
+    pub fn fatal(&mut self, msg: impl AsRef<str>) -> Status {
+        self.state = State::Fatal;
+        self.log(Status::Fatal, status_category(Status::Fatal), msg.as_ref());
+        Status::Fatal
+    }
+
+    /// Checks the state machine; on violation logs and returns the error status.
+    pub fn check(&mut self, call: Call) -> Result<(), Status> {
+        if call.allowed_in(self.state) {
+            Ok(())
+        } else {
+            let msg = format!(
+                "{} is not allowed in state {} (FMI 2.0 Co-Simulation state machine)",
+                call.name(),
+                self.state.name()
+            );
+            Err(if self.state == State::Fatal {
+                self.log(Status::Error, "logStatusError", &msg);
+                Status::Error
+            } else {
+                self.error(msg)
+            })
+        }
+    }
+
+    /// fmi2SetDebugLogging.
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[&str]) -> Status {
+        if let Err(s) = self.check(Call::SetDebugLogging) {
+            return s;
+        }
+        match self.filter.set(on, categories) {
+            Ok(()) => Status::Ok,
+            Err(e) => self.error(e),
+        }
+    }
+
+    /// fmi2SetupExperiment (the tolerance is only logged: Newton tolerances are parameters).
+    pub fn setup_experiment(
+        &mut self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Status {
+        if let Err(s) = self.check(Call::SetupExperiment) {
+            return s;
+        }
+        if !start.is_finite() || stop.is_some_and(|s| !s.is_finite() || s < start) {
+            return self.error(format!(
+                "fmi2SetupExperiment: invalid times (startTime = {start}, stopTime = {stop:?})"
+            ));
+        }
+        self.start_time = start;
+        self.last_successful_time = start;
+        self.info(format!(
+            "setup experiment: startTime = {start}, stopTime = {stop:?}, tolerance = {tolerance:?}"
+        ));
+        Status::Ok
+    }
+
+    /// fmi2EnterInitializationMode.
+    pub fn enter_initialization_mode(&mut self) -> Status {
+        if let Err(s) = self.check(Call::EnterInitializationMode) {
+            return s;
+        }
+        self.state = State::InitializationMode;
+        Status::Ok
+    }
+
+    /// Builds the model from the current parameters and inputs, solves the static equilibrium
+    /// if asked, and refreshes the outputs.
+    fn build(&mut self) -> Result<(), String> {
+        let mut params = ParamValues::defaults(&self.scene.params);
+        for (v, val) in self.vars.vars().iter().zip(&self.values) {
+            if let Role::Parameter(name) = v.role {
+                params.set(name, *val);
+            }
+        }
+        let mut model = build_model(&self.scene, &params)?;
+        for (v, val) in self.vars.vars().iter().zip(&self.values) {
+            if let (Role::Input(kind), Value::Real(x)) = (v.role, val) {
+                model.set_input(kind, *x);
+            }
+        }
+        let mut sim = Simulation::new(model, SolverConfig::from_params(&params), self.start_time)?;
+        if let Some(report) = sim.initialize()? {
+            self.info(report);
+        }
+        self.sim = Some(sim);
+        self.dirty = false;
+        self.refresh_outputs();
+        Ok(())
+    }
+
+    fn ensure_built(&mut self) -> Result<(), Status> {
+        if self.sim.is_none() || self.dirty {
+            self.sim = None;
+            if let Err(e) = self.build() {
+                return Err(self.error(format!("initialization failed: {e}")));
+            }
+        }
+        Ok(())
+    }
+
+    fn refresh_outputs(&mut self) {
+        if let Some(sim) = &self.sim {
+            for (v, val) in self.vars.vars().iter().zip(self.values.iter_mut()) {
+                if let Role::Output(kind) = v.role {
+                    *val = Value::Real(sim.output(kind));
+                }
+            }
+        }
+    }
+
+    /// fmi2ExitInitializationMode: parameters are checked, the model built and, with
+    /// `solver.static_equilibrium`, brought into static equilibrium; outputs are valid after.
+    pub fn exit_initialization_mode(&mut self) -> Status {
+        if let Err(s) = self.check(Call::ExitInitializationMode) {
+            return s;
+        }
+        if let Err(s) = self.ensure_built() {
+            return s;
+        }
+        self.last_successful_time = self.start_time;
+        self.state = State::StepComplete;
+        Status::Ok
+    }
+
+    /// fmi2Terminate.
+    pub fn terminate(&mut self) -> Status {
+        if let Err(s) = self.check(Call::Terminate) {
+            return s;
+        }
+        self.state = State::Terminated;
+        Status::Ok
+    }
+
+    /// fmi2Reset: back to the state right after instantiation.
+    pub fn reset(&mut self) -> Status {
+        if let Err(s) = self.check(Call::Reset) {
+            return s;
+        }
+        self.values = self
+            .vars
+            .vars()
+            .iter()
+            .map(|v| v.start.unwrap_or(Value::Real(0.0)))
+            .collect();
+        self.filter = LogFilter::new(self.logging_on_at_start);
+        self.state = State::Instantiated;
+        self.start_time = 0.0;
+        self.sim = None;
+        self.dirty = true;
+        self.last_successful_time = 0.0;
+        self.terminated = false;
+        self.last_step_status = Status::Ok;
+        Status::Ok
+    }
+
+    fn variable(&mut self, call: Call, vr: u32, ty: VarType) -> Result<Variable, Status> {
+        match self.vars.get(vr) {
+            None => Err(self.error(format!(
+                "{}: unknown value reference {vr} (this FMU has {} variables)",
+                call.name(),
+                self.vars.vars().len()
+            ))),
+            Some(v) if v.ty != ty => {
+                let msg = format!(
+                    "{}: value reference {vr} ({}) is a {:?} variable, not {:?}",
+                    call.name(),
+                    v.name,
+                    v.ty,
+                    ty
+                );
+                Err(self.error(msg))
+            }
+            Some(v) => Ok(v.clone()),
+        }
+    }
+
+    /// fmi2GetReal / Integer / Boolean: reads values into `out`.
+    pub fn get(
+        &mut self,
+        call: Call,
+        ty: VarType,
+        vrs: &[u32],
+        out: &mut dyn FnMut(usize, Value),
+    ) -> Status {
+        if let Err(s) = self.check(call) {
+            return s;
+        }
+        let mut needs_outputs = false;
+        for &vr in vrs {
+            match self.variable(call, vr, ty) {
+                Ok(v) => needs_outputs |= v.causality == Causality::Output,
+                Err(s) => return s,
+            }
+        }
+        if needs_outputs && self.state == State::InitializationMode {
+            if let Err(s) = self.ensure_built() {
+                return s;
+            }
+        }
+        for (i, &vr) in vrs.iter().enumerate() {
+            out(i, self.values[vr as usize]);
+        }
+        Status::Ok
+    }
+
+    /// fmi2SetReal / Integer / Boolean.
+    pub fn set(&mut self, call: Call, vrs: &[u32], values: &[Value]) -> Status {
+        if let Err(s) = self.check(call) {
+            return s;
+        }
+        for (&vr, &val) in vrs.iter().zip(values) {
+            let v = match self.variable(call, vr, val.ty()) {
+                Ok(v) => v,
+                Err(s) => return s,
+            };
+            if let Value::Real(x) = val {
+                if !x.is_finite() {
+                    return self.error(format!(
+                        "{}: {} = {x} is not a finite number",
+                        call.name(),
+                        v.name
+                    ));
+                }
+            }
+            let allowed = match (self.state, v.causality) {
+                (_, Causality::Output) => false,
+                (State::Instantiated | State::InitializationMode, _) => true,
+                (State::StepComplete, Causality::Input) => true,
+                (State::StepComplete, Causality::Parameter) => {
+                    v.variability == Variability::Tunable
+                }
+                _ => false,
+            };
+            if !allowed {
+                let why = match v.causality {
+                    Causality::Output => "it is an output".to_string(),
+                    Causality::Parameter => format!(
+                        "it is a fixed parameter: set it before fmi2ExitInitializationMode (state is {})",
+                        self.state.name()
+                    ),
+                    Causality::Input => format!("not in state {}", self.state.name()),
+                };
+                return self.error(format!("{}: cannot set {}: {why}", call.name(), v.name));
+            }
+            let old = self.values[vr as usize];
+            self.values[vr as usize] = val;
+            if self.state == State::StepComplete {
+                if let Err(s) = self.apply_running(&v, val, old) {
+                    return s;
+                }
+            } else {
+                self.dirty = true;
+            }
+        }
+        Status::Ok
+    }
+
+    /// Applies an input or tunable parameter to a running simulation.
+    fn apply_running(&mut self, v: &Variable, val: Value, old: Value) -> Result<(), Status> {
+        match (v.role, val) {
+            (Role::Input(kind), Value::Real(x)) => {
+                if let Some(sim) = self.sim.as_mut() {
+                    sim.set_input(kind, x);
+                }
+                Ok(())
+            }
+            (Role::Parameter(_), _) => {
+                let mut params = ParamValues::default();
+                for (var, value) in self.vars.vars().iter().zip(&self.values) {
+                    if let Role::Parameter(n) = var.role {
+                        params.set(n, *value);
+                    }
+                }
+                if let Err(errs) = params.validate() {
+                    self.values[v.vr as usize] = old;
+                    return Err(self.error(errs.join("; ")));
+                }
+                let cfg = SolverConfig::from_params(&params);
+                if let Some(sim) = self.sim.as_mut() {
+                    sim.set_tunables(
+                        cfg.max_step,
+                        NewtonSettings {
+                            tolerance: cfg.newton.tolerance,
+                            max_iterations: cfg.newton.max_iterations,
+                        },
+                    );
+                }
+                debug_assert!(
+                    self.scene
+                        .params
+                        .iter()
+                        .any(|p| p.name == v.name && p.variability == ParamVariability::Tunable)
+                );
+                self.info(format!("tunable parameter {} set to {:?}", v.name, val));
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// fmi2DoStep: advances from `t` by `h`. Returns Discard (and enters stepFailed, with
+    /// fmi2Terminated true and the state at the last successful time) when the step cannot be
+    /// completed.
+    pub fn do_step(&mut self, t: f64, h: f64) -> Status {
+        if let Err(s) = self.check(Call::DoStep) {
+            return s;
+        }
+        if !h.is_finite() || h <= 0.0 || !t.is_finite() {
+            return self.error(format!(
+                "fmi2DoStep: communicationStepSize must be a finite number > 0 (got {h}) at a finite currentCommunicationPoint (got {t})"
+            ));
+        }
+        let Some(sim) = self.sim.as_mut() else {
+            return self.error("fmi2DoStep: no simulation (initialization did not complete)");
+        };
+        let now = sim.time();
+        if (t - now).abs() > 1e-9 * now.abs().max(h).max(1e-3) {
+            let msg = format!(
+                "fmi2DoStep: currentCommunicationPoint = {t} s but the FMU is at t = {now} s"
+            );
+            return self.error(msg);
+        }
+        let result = sim.advance(t + h);
+        self.refresh_outputs();
+        match result {
+            Ok(()) => {
+                self.last_successful_time = t + h;
+                self.last_step_status = Status::Ok;
+                Status::Ok
+            }
+            Err(e) => {
+                self.last_successful_time = e.reached;
+                self.terminated = true;
+                self.last_step_status = Status::Discard;
+                self.state = State::StepFailed;
+                self.log(
+                    Status::Discard,
+                    status_category(Status::Discard),
+                    &format!(
+                        "fmi2DoStep from t = {t} s by {h} s: {}; the state is kept at the last successful time {} s (fmi2LastSuccessfulTime) and the unit terminates (fmi2Terminated = true)",
+                        e.message, e.reached
+                    ),
+                );
+                Status::Discard
+            }
+        }
+    }
+
+    /// fmi2CancelStep (no asynchronous steps: always an error).
+    pub fn cancel_step(&mut self) -> Status {
+        if let Err(s) = self.check(Call::CancelStep) {
+            return s;
+        }
+        self.error("fmi2CancelStep: flexfmu never runs steps asynchronously")
+    }
+
+    fn status_check(&mut self, call: Call) -> Result<(), Status> {
+        self.check(call)
+    }
+
+    fn not_available(&mut self, call: Call, kind: StatusKind) -> Status {
+        self.log(
+            Status::Discard,
+            status_category(Status::Discard),
+            &format!(
+                "{}: status {kind:?} is not available from this slave",
+                call.name()
+            ),
+        );
+        Status::Discard
+    }
+
+    /// fmi2GetStatus.
+    pub fn get_status(&mut self, kind: StatusKind) -> Result<Status, Status> {
+        self.status_check(Call::GetStatus)?;
+        Err(self.not_available(Call::GetStatus, kind))
+    }
+
+    /// fmi2GetRealStatus.
+    pub fn get_real_status(&mut self, kind: StatusKind) -> Result<f64, Status> {
+        self.status_check(Call::GetRealStatus)?;
+        match kind {
+            StatusKind::LastSuccessfulTime => Ok(self.last_successful_time),
+            k => Err(self.not_available(Call::GetRealStatus, k)),
+        }
+    }
+
+    /// fmi2GetIntegerStatus.
+    pub fn get_integer_status(&mut self, kind: StatusKind) -> Result<i32, Status> {
+        self.status_check(Call::GetIntegerStatus)?;
+        Err(self.not_available(Call::GetIntegerStatus, kind))
+    }
+
+    /// fmi2GetBooleanStatus.
+    pub fn get_boolean_status(&mut self, kind: StatusKind) -> Result<bool, Status> {
+        self.status_check(Call::GetBooleanStatus)?;
+        match kind {
+            StatusKind::Terminated => Ok(self.terminated),
+            k => Err(self.not_available(Call::GetBooleanStatus, k)),
+        }
+    }
+
+    /// fmi2GetStringStatus.
+    pub fn get_string_status(
+        &mut self,
+        kind: StatusKind,
+    ) -> Result<&'static std::ffi::CStr, Status> {
+        self.status_check(Call::GetStringStatus)?;
+        Err(self.not_available(Call::GetStringStatus, kind))
+    }
+
+    /// fmi2GetString / fmi2SetString: there are no String variables.
+    pub fn no_strings(&mut self, call: Call, vrs: &[u32]) -> Status {
+        if let Err(s) = self.check(call) {
+            return s;
+        }
+        match vrs.first() {
+            None => Status::Ok,
+            Some(&vr) => match self.vars.get(vr) {
+                Some(v) => {
+                    let msg = format!(
+                        "{}: {} (value reference {vr}) is {:?}, not a String",
+                        call.name(),
+                        v.name,
+                        v.ty
+                    );
+                    self.error(msg)
+                }
+                None => self.error(format!(
+                    "{}: unknown value reference {vr} (this FMU has no String variables)",
+                    call.name()
+                )),
+            },
+        }
+    }
+
+    /// A capability this FMU does not have (yet): error with a clear message.
+    pub fn unsupported(&mut self, call: Call, flag: &str) -> Status {
+        if let Err(s) = self.check(call) {
+            return s;
+        }
+        self.error(format!(
+            "{}: not supported by this FMU ({flag} = false in modelDescription.xml)",
+            call.name()
+        ))
+    }
+
+    /// Status of the last doStep.
+    pub fn last_step_status(&self) -> Status {
+        self.last_step_status
+    }
+
+    /// Current simulation time [s], if the simulation exists.
+    pub fn time(&self) -> Option<f64> {
+        self.sim.as_ref().map(|s| s.time())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resource_uris() {
+        assert_eq!(
+            resource_dir_from_uri("file:///tmp/a%20b/resources").unwrap(),
+            PathBuf::from("/tmp/a b/resources")
+        );
+        assert_eq!(
+            resource_dir_from_uri("file://localhost/x/y").unwrap(),
+            PathBuf::from("/x/y")
+        );
+        assert_eq!(
+            resource_dir_from_uri("file:/x/y/").unwrap(),
+            PathBuf::from("/x/y/")
+        );
+        assert_eq!(
+            resource_dir_from_uri("/plain/path").unwrap(),
+            PathBuf::from("/plain/path")
+        );
+        assert!(resource_dir_from_uri("file://server/share").is_err());
+        assert!(resource_dir_from_uri("http://x/y").is_err());
+    }
+}

@@ -10,6 +10,8 @@
 //! scene-specific models in [`model`].
 #![warn(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
+// Numeric kernels index several arrays with one loop variable; iterators would obscure them.
+#![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
 pub mod elements;

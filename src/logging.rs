@@ -33,7 +33,6 @@ pub const CATEGORIES: &[(&str, &str)] = &[
     ("logStatusDiscard", "Messages with status fmi2Discard"),
     ("logStatusError", "Messages with status fmi2Error"),
     ("logStatusFatal", "Messages with status fmi2Fatal"),
-    ("logAll", "All messages"),
 ];
 
 /// Category of a message with the given status.
@@ -101,21 +100,12 @@ impl LogFilter {
         if status >= Status::Warning {
             return true;
         }
-        if !self.on {
-            return false;
-        }
-        let all = self.enabled[CATEGORIES.len() - 1];
-        let own = CATEGORIES
-            .iter()
-            .position(|(n, _)| *n == category)
-            .map(|i| self.enabled[i])
-            .unwrap_or(false);
-        own || (all && category_declared(category))
+        self.on
+            && CATEGORIES
+                .iter()
+                .position(|(n, _)| *n == category)
+                .is_some_and(|i| self.enabled[i])
     }
-}
-
-fn category_declared(c: &str) -> bool {
-    CATEGORIES.iter().any(|(n, _)| *n == c)
 }
 
 #[cfg(test)]
@@ -132,7 +122,7 @@ mod tests {
         );
         f.set(true, &[]).unwrap();
         assert!(f.passes(Status::Ok, "logEvents"));
-        f.set(false, &["logEvents", "logAll"]).unwrap();
+        f.set(false, &["logEvents"]).unwrap();
         assert!(!f.passes(Status::Ok, "logEvents"));
         assert!(f.passes(Status::Ok, "logNonlinearSystems"));
         assert!(f.set(true, &["nope"]).is_err());

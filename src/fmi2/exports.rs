@@ -1,0 +1,709 @@
+//! The 34 exported FMI 2.0 Co-Simulation functions. Each one: checks the component handle and
+//! pointer arguments, runs the safe implementation inside `catch_unwind`, and returns the
+//! status as the C enum. No global mutable state: everything lives in the instance.
+#![allow(non_snake_case)]
+#![allow(clippy::missing_safety_doc)]
+
+use super::logger::c_sink;
+use super::state_machine::Call;
+use super::types::*;
+use crate::instance::{Instance, StatusKind, resource_dir_from_uri};
+use crate::logging::Status;
+use crate::variables::{Value, VarType};
+use std::ffi::{CStr, c_char, c_void};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::ptr;
+
+/// Marks a live component handle ("flexfmu2"); zeroed when the instance is freed so that a
+/// stale or foreign pointer is rejected instead of used.
+const MAGIC: u64 = 0x666c_6578_666d_7532;
+
+#[repr(C)]
+struct Handle {
+    magic: u64,
+    inst: Instance,
+}
+
+/// The live handle behind `c`, if it is one.
+///
+/// SAFETY: `c` is null or a pointer returned by fmi2Instantiate; a freed or foreign pointer
+/// is detected through the magic number as far as reading 8 bytes from it is possible.
+unsafe fn handle<'a>(c: Fmi2Component) -> Option<&'a mut Handle> {
+    if c.is_null() || (c as usize) % std::mem::align_of::<Handle>() != 0 {
+        return None;
+    }
+    let h = c as *mut Handle;
+    // SAFETY: non-null and aligned; the importer passes what fmi2Instantiate returned.
+    unsafe {
+        if ptr::read_volatile(&(*h).magic) != MAGIC {
+            return None;
+        }
+        Some(&mut *h)
+    }
+}
+
+fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic".into()
+    }
+}
+
+/// Runs `f` on the instance behind `c`, converting a panic into fmi2Fatal.
+fn guarded(c: Fmi2Component, f: impl FnOnce(&mut Instance) -> Status) -> Fmi2Status {
+    // SAFETY: see `handle`.
+    let Some(h) = (unsafe { handle(c) }) else {
+        return FMI2_ERROR;
+    };
+    match catch_unwind(AssertUnwindSafe(|| f(&mut h.inst))) {
+        Ok(s) => to_c(s),
+        Err(p) => {
+            let text = panic_text(p.as_ref());
+            let _ = catch_unwind(AssertUnwindSafe(|| {
+                h.inst.fatal(format!("internal error (panic): {text}"))
+            }));
+            FMI2_FATAL
+        }
+    }
+}
+
+/// A slice from a C array; `None` if the pointer is null while `n > 0` or `n` is absurd.
+///
+/// SAFETY: a non-null `p` points to `n` valid elements (the FMI contract).
+unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
+    if n == 0 {
+        return Some(&[]);
+    }
+    if p.is_null() || n > isize::MAX as usize / std::mem::size_of::<T>().max(1) {
+        return None;
+    }
+    // SAFETY: as documented.
+    Some(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// Mutable variant of [`slice`].
+///
+/// SAFETY: a non-null `p` points to `n` writable elements.
+unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
+    if n == 0 {
+        return Some(&mut []);
+    }
+    if p.is_null() || n > isize::MAX as usize / std::mem::size_of::<T>().max(1) {
+        return None;
+    }
+    // SAFETY: as documented.
+    Some(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+/// A C string as UTF-8 (lossy), `None` for null.
+///
+/// SAFETY: a non-null `s` is a valid NUL-terminated string.
+unsafe fn text<'a>(s: *const c_char) -> Option<std::borrow::Cow<'a, str>> {
+    if s.is_null() {
+        None
+    } else {
+        // SAFETY: as documented.
+        Some(unsafe { CStr::from_ptr(s) }.to_string_lossy())
+    }
+}
+
+fn null_args(inst: &mut Instance, call: Call) -> Status {
+    inst.error(format!(
+        "{}: a required pointer argument is NULL",
+        call.name()
+    ))
+}
+
+fn status_kind(kind: Fmi2StatusKind) -> Option<StatusKind> {
+    match kind {
+        0 => Some(StatusKind::DoStepStatus),
+        1 => Some(StatusKind::PendingStatus),
+        2 => Some(StatusKind::LastSuccessfulTime),
+        3 => Some(StatusKind::Terminated),
+        _ => None,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Inquiry, creation and destruction
+// ---------------------------------------------------------------------------------------------
+
+/// fmi2GetTypesPlatform
+#[unsafe(no_mangle)]
+pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
+    c"default".as_ptr()
+}
+
+/// fmi2GetVersion
+#[unsafe(no_mangle)]
+pub extern "C" fn fmi2GetVersion() -> *const c_char {
+    c"2.0".as_ptr()
+}
+
+/// fmi2SetDebugLogging
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetDebugLogging(
+    c: Fmi2Component,
+    logging_on: Fmi2Boolean,
+    n_categories: usize,
+    categories: *const Fmi2String,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        // SAFETY: FMI contract for the categories array.
+        let Some(cats) = (unsafe { slice(categories, n_categories) }) else {
+            return null_args(inst, Call::SetDebugLogging);
+        };
+        let mut names = Vec::with_capacity(cats.len());
+        for &p in cats {
+            // SAFETY: each entry is a C string or NULL.
+            match unsafe { text(p) } {
+                Some(s) => names.push(s.into_owned()),
+                None => return null_args(inst, Call::SetDebugLogging),
+            }
+        }
+        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+        inst.set_debug_logging(logging_on != FMI2_FALSE, &refs)
+    })
+}
+
+/// fmi2Instantiate (Co-Simulation only). Returns NULL, after logging why, on any problem.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2Instantiate(
+    instance_name: Fmi2String,
+    fmu_type: Fmi2Type,
+    guid: Fmi2String,
+    resource_location: Fmi2String,
+    functions: *const Fmi2CallbackFunctions,
+    _visible: Fmi2Boolean,
+    logging_on: Fmi2Boolean,
+) -> Fmi2Component {
+    let run = || -> Fmi2Component {
+        if functions.is_null() {
+            return ptr::null_mut();
+        }
+        // SAFETY: non-null; the importer passes a valid struct that outlives the instance.
+        let cb = unsafe { &*functions };
+        // SAFETY: FMI contract: C strings or NULL.
+        let name = unsafe { text(instance_name) }.map(|s| s.into_owned());
+        // SAFETY: the callbacks stay valid while the instance lives (FMI contract).
+        let mut sink = unsafe {
+            c_sink(
+                cb.logger,
+                cb.component_environment,
+                name.as_deref().unwrap_or(""),
+            )
+        };
+        let mut fail = |msg: String| -> Fmi2Component {
+            sink(
+                Status::Error,
+                "logStatusError",
+                &format!("fmi2Instantiate: {msg}"),
+            );
+            ptr::null_mut()
+        };
+        let Some(name) = name else {
+            return fail("instanceName is NULL".into());
+        };
+        if fmu_type != FMI2_COSIMULATION {
+            return fail(format!(
+                "fmuType = {fmu_type}: this FMU implements Co-Simulation only (fmi2CoSimulation = 1)"
+            ));
+        }
+        // SAFETY: as above.
+        let Some(guid) = (unsafe { text(guid) }) else {
+            return fail("fmuGUID is NULL".into());
+        };
+        // SAFETY: as above.
+        let Some(uri) = (unsafe { text(resource_location) }) else {
+            return fail(
+                "fmuResourceLocation is NULL; flexfmu reads its scene from resources/scene.toml"
+                    .into(),
+            );
+        };
+        let dir = match resource_dir_from_uri(&uri) {
+            Ok(d) => d,
+            Err(e) => return fail(e),
+        };
+        // SAFETY: as above.
+        let inst_sink = unsafe { c_sink(cb.logger, cb.component_environment, &name) };
+        match Instance::new(&name, &guid, &dir, logging_on != FMI2_FALSE, inst_sink) {
+            Ok(inst) => Box::into_raw(Box::new(Handle { magic: MAGIC, inst })) as *mut c_void,
+            Err(e) => fail(e),
+        }
+    };
+    catch_unwind(AssertUnwindSafe(run)).unwrap_or(ptr::null_mut())
+}
+
+/// fmi2FreeInstance
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2FreeInstance(c: Fmi2Component) {
+    // SAFETY: see `handle`.
+    if let Some(h) = unsafe { handle(c) } {
+        h.magic = 0;
+        // SAFETY: the pointer came from Box::into_raw in fmi2Instantiate and is freed once
+        // (the magic is now zero).
+        let boxed = unsafe { Box::from_raw(c as *mut Handle) };
+        let _ = catch_unwind(AssertUnwindSafe(move || drop(boxed)));
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Initialization, termination, reset
+// ---------------------------------------------------------------------------------------------
+
+/// fmi2SetupExperiment
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetupExperiment(
+    c: Fmi2Component,
+    tolerance_defined: Fmi2Boolean,
+    tolerance: Fmi2Real,
+    start_time: Fmi2Real,
+    stop_time_defined: Fmi2Boolean,
+    stop_time: Fmi2Real,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.setup_experiment(
+            (tolerance_defined != FMI2_FALSE).then_some(tolerance),
+            start_time,
+            (stop_time_defined != FMI2_FALSE).then_some(stop_time),
+        )
+    })
+}
+
+/// fmi2EnterInitializationMode
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2EnterInitializationMode(c: Fmi2Component) -> Fmi2Status {
+    guarded(c, |inst| inst.enter_initialization_mode())
+}
+
+/// fmi2ExitInitializationMode
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2ExitInitializationMode(c: Fmi2Component) -> Fmi2Status {
+    guarded(c, |inst| inst.exit_initialization_mode())
+}
+
+/// fmi2Terminate
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2Terminate(c: Fmi2Component) -> Fmi2Status {
+    guarded(c, |inst| inst.terminate())
+}
+
+/// fmi2Reset
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2Reset(c: Fmi2Component) -> Fmi2Status {
+    guarded(c, |inst| inst.reset())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Getting and setting variable values
+// ---------------------------------------------------------------------------------------------
+
+fn get_values<T>(
+    c: Fmi2Component,
+    call: Call,
+    ty: VarType,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *mut T,
+    conv: fn(Value) -> T,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        // SAFETY: FMI contract: `vr` and `value` hold `nvr` elements.
+        let (Some(vrs), Some(out)) = (unsafe { slice(vr, nvr) }, unsafe { slice_mut(value, nvr) })
+        else {
+            return null_args(inst, call);
+        };
+        inst.get(call, ty, vrs, &mut |i, v| out[i] = conv(v))
+    })
+}
+
+fn set_values<T: Copy>(
+    c: Fmi2Component,
+    call: Call,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *const T,
+    conv: fn(T) -> Value,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        // SAFETY: FMI contract: `vr` and `value` hold `nvr` elements.
+        let (Some(vrs), Some(vals)) = (unsafe { slice(vr, nvr) }, unsafe { slice(value, nvr) })
+        else {
+            return null_args(inst, call);
+        };
+        let vals: Vec<Value> = vals.iter().map(|&v| conv(v)).collect();
+        inst.set(call, vrs, &vals)
+    })
+}
+
+fn real_of(v: Value) -> f64 {
+    match v {
+        Value::Real(x) => x,
+        _ => f64::NAN,
+    }
+}
+fn int_of(v: Value) -> Fmi2Integer {
+    match v {
+        Value::Integer(x) => x,
+        _ => 0,
+    }
+}
+fn bool_of(v: Value) -> Fmi2Boolean {
+    match v {
+        Value::Boolean(true) => FMI2_TRUE,
+        _ => FMI2_FALSE,
+    }
+}
+
+/// fmi2GetReal
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetReal(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *mut Fmi2Real,
+) -> Fmi2Status {
+    get_values(c, Call::GetReal, VarType::Real, vr, nvr, value, real_of)
+}
+
+/// fmi2GetInteger
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetInteger(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *mut Fmi2Integer,
+) -> Fmi2Status {
+    get_values(
+        c,
+        Call::GetInteger,
+        VarType::Integer,
+        vr,
+        nvr,
+        value,
+        int_of,
+    )
+}
+
+/// fmi2GetBoolean
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetBoolean(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *mut Fmi2Boolean,
+) -> Fmi2Status {
+    get_values(
+        c,
+        Call::GetBoolean,
+        VarType::Boolean,
+        vr,
+        nvr,
+        value,
+        bool_of,
+    )
+}
+
+/// fmi2GetString: this FMU has no String variables.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetString(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *mut Fmi2String,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        // SAFETY: FMI contract.
+        let (Some(vrs), Some(_)) = (unsafe { slice(vr, nvr) }, unsafe { slice_mut(value, nvr) })
+        else {
+            return null_args(inst, Call::GetString);
+        };
+        inst.no_strings(Call::GetString, vrs)
+    })
+}
+
+/// fmi2SetReal
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetReal(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *const Fmi2Real,
+) -> Fmi2Status {
+    set_values(c, Call::SetReal, vr, nvr, value, Value::Real)
+}
+
+/// fmi2SetInteger
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetInteger(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *const Fmi2Integer,
+) -> Fmi2Status {
+    set_values(c, Call::SetInteger, vr, nvr, value, Value::Integer)
+}
+
+/// fmi2SetBoolean
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetBoolean(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *const Fmi2Boolean,
+) -> Fmi2Status {
+    set_values(c, Call::SetBoolean, vr, nvr, value, |b| {
+        Value::Boolean(b != FMI2_FALSE)
+    })
+}
+
+/// fmi2SetString: this FMU has no String variables.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetString(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    value: *const Fmi2String,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        // SAFETY: FMI contract.
+        let (Some(vrs), Some(_)) = (unsafe { slice(vr, nvr) }, unsafe { slice(value, nvr) }) else {
+            return null_args(inst, Call::SetString);
+        };
+        inst.no_strings(Call::SetString, vrs)
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// FMU state, derivatives (capabilities not offered: flags are false)
+// ---------------------------------------------------------------------------------------------
+
+/// fmi2GetFMUstate
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetFMUstate(
+    c: Fmi2Component,
+    _state: *mut Fmi2FmuState,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.unsupported(Call::GetFmuState, "canGetAndSetFMUstate")
+    })
+}
+
+/// fmi2SetFMUstate
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetFMUstate(c: Fmi2Component, _state: Fmi2FmuState) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.unsupported(Call::SetFmuState, "canGetAndSetFMUstate")
+    })
+}
+
+/// fmi2FreeFMUstate
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2FreeFMUstate(
+    c: Fmi2Component,
+    _state: *mut Fmi2FmuState,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.unsupported(Call::FreeFmuState, "canGetAndSetFMUstate")
+    })
+}
+
+/// fmi2SerializedFMUstateSize
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+    c: Fmi2Component,
+    _state: Fmi2FmuState,
+    _size: *mut usize,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.unsupported(Call::SerializedFmuStateSize, "canSerializeFMUstate")
+    })
+}
+
+/// fmi2SerializeFMUstate
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SerializeFMUstate(
+    c: Fmi2Component,
+    _state: Fmi2FmuState,
+    _bytes: *mut Fmi2Byte,
+    _size: usize,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.unsupported(Call::SerializeFmuState, "canSerializeFMUstate")
+    })
+}
+
+/// fmi2DeSerializeFMUstate
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+    c: Fmi2Component,
+    _bytes: *const Fmi2Byte,
+    _size: usize,
+    _state: *mut Fmi2FmuState,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.unsupported(Call::DeSerializeFmuState, "canSerializeFMUstate")
+    })
+}
+
+/// fmi2GetDirectionalDerivative
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
+    c: Fmi2Component,
+    _unknown: *const Fmi2ValueReference,
+    _n_unknown: usize,
+    _known: *const Fmi2ValueReference,
+    _n_known: usize,
+    _dv_known: *const Fmi2Real,
+    _dv_unknown: *mut Fmi2Real,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.unsupported(
+            Call::GetDirectionalDerivative,
+            "providesDirectionalDerivative",
+        )
+    })
+}
+
+/// fmi2SetRealInputDerivatives
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+    c: Fmi2Component,
+    _vr: *const Fmi2ValueReference,
+    _nvr: usize,
+    _order: *const Fmi2Integer,
+    _value: *const Fmi2Real,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.unsupported(Call::SetRealInputDerivatives, "canInterpolateInputs")
+    })
+}
+
+/// fmi2GetRealOutputDerivatives
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+    c: Fmi2Component,
+    _vr: *const Fmi2ValueReference,
+    _nvr: usize,
+    _order: *const Fmi2Integer,
+    _value: *mut Fmi2Real,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.unsupported(
+            Call::GetRealOutputDerivatives,
+            "maxOutputDerivativeOrder > 0",
+        )
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Co-Simulation: stepping and status
+// ---------------------------------------------------------------------------------------------
+
+/// fmi2DoStep
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2DoStep(
+    c: Fmi2Component,
+    current_communication_point: Fmi2Real,
+    communication_step_size: Fmi2Real,
+    _no_set_fmu_state_prior: Fmi2Boolean,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        inst.do_step(current_communication_point, communication_step_size)
+    })
+}
+
+/// fmi2CancelStep
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2CancelStep(c: Fmi2Component) -> Fmi2Status {
+    guarded(c, |inst| inst.cancel_step())
+}
+
+fn get_status_value<T>(
+    c: Fmi2Component,
+    call: Call,
+    kind: Fmi2StatusKind,
+    value: *mut T,
+    f: impl FnOnce(&mut Instance, StatusKind) -> Result<T, Status>,
+) -> Fmi2Status {
+    guarded(c, |inst| {
+        if value.is_null() {
+            return null_args(inst, call);
+        }
+        let Some(kind) = status_kind(kind) else {
+            return inst.error(format!("{}: unknown fmi2StatusKind {kind}", call.name()));
+        };
+        match f(inst, kind) {
+            Ok(v) => {
+                // SAFETY: non-null pointer to a writable T (FMI contract).
+                unsafe { value.write(v) };
+                Status::Ok
+            }
+            Err(s) => s,
+        }
+    })
+}
+
+/// fmi2GetStatus
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetStatus(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    value: *mut Fmi2Status,
+) -> Fmi2Status {
+    get_status_value(c, Call::GetStatus, kind, value, |i, k| {
+        i.get_status(k).map(to_c)
+    })
+}
+
+/// fmi2GetRealStatus
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetRealStatus(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    value: *mut Fmi2Real,
+) -> Fmi2Status {
+    get_status_value(c, Call::GetRealStatus, kind, value, |i, k| {
+        i.get_real_status(k)
+    })
+}
+
+/// fmi2GetIntegerStatus
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetIntegerStatus(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    value: *mut Fmi2Integer,
+) -> Fmi2Status {
+    get_status_value(c, Call::GetIntegerStatus, kind, value, |i, k| {
+        i.get_integer_status(k)
+    })
+}
+
+/// fmi2GetBooleanStatus
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetBooleanStatus(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    value: *mut Fmi2Boolean,
+) -> Fmi2Status {
+    get_status_value(c, Call::GetBooleanStatus, kind, value, |i, k| {
+        i.get_boolean_status(k)
+            .map(|b| if b { FMI2_TRUE } else { FMI2_FALSE })
+    })
+}
+
+/// fmi2GetStringStatus
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetStringStatus(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    value: *mut Fmi2String,
+) -> Fmi2Status {
+    get_status_value(c, Call::GetStringStatus, kind, value, |i, k| {
+        i.get_string_status(k).map(|s| s.as_ptr())
+    })
+}

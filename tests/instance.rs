@@ -1,0 +1,286 @@
+//! The safe FMI instance: calling sequence, errors with messages, parameters, outputs.
+
+mod common;
+use flexfmu::fmi2::state_machine::{Call, State};
+use flexfmu::instance::Instance;
+
+use flexfmu::logging::Status;
+use flexfmu::variables::{Value, VarType};
+use std::cell::RefCell;
+use std::rc::Rc;
+
+type Log = Rc<RefCell<Vec<(Status, String, String)>>>;
+
+fn instance(scene: &str, logging_on: bool) -> (Instance, Log) {
+    let log: Log = Rc::default();
+    let l2 = log.clone();
+    let inst = Instance::from_scene(
+        "test",
+        common::scene(scene),
+        logging_on,
+        Box::new(move |s, c, m| l2.borrow_mut().push((s, c.to_string(), m.to_string()))),
+    );
+    (inst, log)
+}
+
+fn vr(inst: &Instance, name: &str) -> u32 {
+    inst.variables()
+        .by_name(name)
+        .unwrap_or_else(|| panic!("no {name}"))
+        .vr
+}
+
+fn set(inst: &mut Instance, name: &str, v: Value) -> Status {
+    let call = match v {
+        Value::Real(_) => Call::SetReal,
+        Value::Integer(_) => Call::SetInteger,
+        Value::Boolean(_) => Call::SetBoolean,
+    };
+    let r = vr(inst, name);
+    inst.set(call, &[r], &[v])
+}
+
+fn get(inst: &mut Instance, name: &str) -> (Status, f64) {
+    let r = vr(inst, name);
+    let mut out = f64::NAN;
+    let s = inst.get(Call::GetReal, VarType::Real, &[r], &mut |_, v| {
+        if let Value::Real(x) = v {
+            out = x
+        }
+    });
+    (s, out)
+}
+
+fn last_error(log: &Log) -> String {
+    log.borrow()
+        .iter()
+        .rev()
+        .find(|(s, _, _)| *s >= Status::Discard)
+        .map(|(_, _, m)| m.clone())
+        .unwrap_or_default()
+}
+
+fn init(inst: &mut Instance) -> Status {
+    assert_eq!(inst.setup_experiment(None, 0.0, Some(1.0)), Status::Ok);
+    assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+    inst.exit_initialization_mode()
+}
+
+#[test]
+fn static_equilibrium_outputs_are_valid_right_after_initialization() {
+    let (mut inst, _) = instance("cantilever", false);
+    assert_eq!(set(&mut inst, "load.fy", Value::Real(-5e5)), Status::Ok);
+    assert_eq!(
+        set(&mut inst, "solver.static_equilibrium", Value::Boolean(true)),
+        Status::Ok
+    );
+    assert_eq!(
+        set(&mut inst, "element.shear_rule", Value::Integer(1)),
+        Status::Ok
+    );
+    assert_eq!(init(&mut inst), Status::Ok);
+    let (_, x) = get(&mut inst, "tip.x");
+    let (_, y) = get(&mut inst, "tip.y");
+    // Table 3 of Kerkkanen et al. 2003, 8 elements: (1.85667, -0.67758)
+    assert!(
+        (x - 1.85667).abs() < 5e-6 && (y + 0.67758).abs() < 5e-6,
+        "({x}, {y})"
+    );
+    // Starting in equilibrium with the same load, a dynamic step stays there.
+    assert_eq!(inst.do_step(0.0, 1e-3), Status::Ok);
+    let (_, y1) = get(&mut inst, "tip.y");
+    assert!((y1 - y).abs() < 1e-9, "{y1} vs {y}");
+}
+
+#[test]
+fn outputs_can_be_read_in_initialization_mode() {
+    let (mut inst, _) = instance("simply_supported", false);
+    assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+    assert_eq!(set(&mut inst, "load.fy", Value::Real(-1000.0)), Status::Ok);
+    assert_eq!(
+        set(&mut inst, "solver.static_equilibrium", Value::Boolean(true)),
+        Status::Ok
+    );
+    let (s, y) = get(&mut inst, "mid.y");
+    assert_eq!(s, Status::Ok);
+    assert!(y < -9e-5 && y > -1e-4, "{y}");
+    // A later parameter change in Initialization Mode is honoured at exit.
+    assert_eq!(set(&mut inst, "load.fy", Value::Real(-2000.0)), Status::Ok);
+    assert_eq!(inst.exit_initialization_mode(), Status::Ok);
+    let (_, y2) = get(&mut inst, "mid.y");
+    assert!((y2 / y - 2.0).abs() < 1e-6, "{y2} vs 2 * {y}");
+}
+
+#[test]
+fn illegal_call_order_is_an_error_with_a_message() {
+    let (mut inst, log) = instance("cantilever", false);
+    assert_eq!(inst.do_step(0.0, 1e-3), Status::Error);
+    assert!(
+        last_error(&log).contains("fmi2DoStep is not allowed in state Instantiated"),
+        "{:?}",
+        log.borrow()
+    );
+    assert_eq!(inst.state(), State::Error);
+    // Reset brings it back.
+    assert_eq!(inst.reset(), Status::Ok);
+    assert_eq!(init(&mut inst), Status::Ok);
+    assert_eq!(inst.exit_initialization_mode(), Status::Error);
+    assert!(last_error(&log).contains("fmi2ExitInitializationMode is not allowed"));
+}
+
+#[test]
+fn bad_parameters_fail_initialization_naming_the_parameter() {
+    for (name, value, expect) in [
+        ("material.E", Value::Real(-1.0), "material.E"),
+        ("material.nu", Value::Real(0.5), "material.nu"),
+        ("material.nu", Value::Real(0.7), "material.nu"),
+        ("mesh.n_elements", Value::Integer(0), "mesh.n_elements"),
+        ("geometry.height", Value::Real(0.0), "geometry.height"),
+        (
+            "element.shear_rule",
+            Value::Integer(3),
+            "element.shear_rule",
+        ),
+        ("solver.max_step", Value::Real(-1e-3), "solver.max_step"),
+    ] {
+        let (mut inst, log) = instance("cantilever", false);
+        assert_eq!(set(&mut inst, name, value), Status::Ok, "{name}");
+        assert_eq!(init(&mut inst), Status::Error, "{name} = {value:?}");
+        let msg = last_error(&log);
+        assert!(msg.contains(expect), "message for {name}: {msg}");
+        assert_eq!(inst.state(), State::Error);
+    }
+}
+
+#[test]
+fn nan_input_unknown_reference_and_wrong_type_are_errors() {
+    let (mut inst, log) = instance("cantilever", false);
+    assert_eq!(init(&mut inst), Status::Ok);
+    assert_eq!(
+        set(&mut inst, "load.fy", Value::Real(f64::NAN)),
+        Status::Error
+    );
+    assert!(last_error(&log).contains("load.fy"));
+
+    let (mut inst, log) = instance("cantilever", false);
+    assert_eq!(init(&mut inst), Status::Ok);
+    assert_eq!(
+        inst.set(Call::SetReal, &[9999], &[Value::Real(1.0)]),
+        Status::Error
+    );
+    assert!(last_error(&log).contains("unknown value reference 9999"));
+
+    let (mut inst, log) = instance("cantilever", false);
+    assert_eq!(init(&mut inst), Status::Ok);
+    let n = vr(&inst, "mesh.n_elements");
+    assert_eq!(
+        inst.set(Call::SetReal, &[n], &[Value::Real(3.0)]),
+        Status::Error
+    );
+    assert!(last_error(&log).contains("Integer"));
+
+    let (mut inst, log) = instance("cantilever", false);
+    assert_eq!(init(&mut inst), Status::Ok);
+    assert_eq!(
+        set(&mut inst, "material.E", Value::Real(1e9)),
+        Status::Error
+    );
+    assert!(last_error(&log).contains("fixed parameter"));
+}
+
+#[test]
+fn tunable_parameters_and_inputs_change_during_the_run() {
+    let (mut inst, _) = instance("cantilever", false);
+    assert_eq!(init(&mut inst), Status::Ok);
+    assert_eq!(
+        set(&mut inst, "solver.max_step", Value::Real(5e-5)),
+        Status::Ok
+    );
+    assert_eq!(set(&mut inst, "load.fy", Value::Real(-100.0)), Status::Ok);
+    assert_eq!(inst.do_step(0.0, 1e-3), Status::Ok);
+    let (_, y) = get(&mut inst, "tip.y");
+    assert!(y < 0.0, "the load pulls the tip down: {y}");
+    // an invalid tunable value is rejected and the old one kept
+    assert_eq!(
+        set(&mut inst, "solver.max_step", Value::Real(0.0)),
+        Status::Error
+    );
+}
+
+#[test]
+fn reset_allows_a_second_run_with_other_parameters() {
+    let (mut inst, _) = instance("simply_supported", false);
+    let run = |inst: &mut Instance, e: f64| {
+        set(inst, "material.E", Value::Real(e));
+        set(inst, "load.fy", Value::Real(-1000.0));
+        set(inst, "solver.static_equilibrium", Value::Boolean(true));
+        assert_eq!(init(inst), Status::Ok);
+        get(inst, "mid.y").1
+    };
+    let y1 = run(&mut inst, 2.07e11);
+    assert_eq!(inst.terminate(), Status::Ok);
+    assert_eq!(inst.reset(), Status::Ok);
+    let y2 = run(&mut inst, 1.035e11);
+    assert!(
+        (y2 / y1 - 2.0).abs() < 1e-6,
+        "halving E doubles a linear deflection: {y1} {y2}"
+    );
+}
+
+#[test]
+fn logging_respects_logging_on_and_categories() {
+    let (mut inst, log) = instance("cantilever", false);
+    assert_eq!(init(&mut inst), Status::Ok);
+    assert!(
+        log.borrow().iter().all(|(s, _, _)| *s >= Status::Warning),
+        "no info when off"
+    );
+    let (mut inst, log) = instance("cantilever", true);
+    assert_eq!(init(&mut inst), Status::Ok);
+    assert!(log.borrow().iter().any(|(_, c, _)| c == "logEvents"));
+    let (mut inst, log) = instance("cantilever", true);
+    assert_eq!(inst.set_debug_logging(false, &["logEvents"]), Status::Ok);
+    assert_eq!(init(&mut inst), Status::Ok);
+    assert!(
+        !log.borrow()
+            .iter()
+            .skip(1)
+            .any(|(_, c, _)| c == "logEvents")
+    );
+    assert_eq!(
+        inst.set_debug_logging(true, &["noSuchCategory"]),
+        Status::Error
+    );
+}
+
+/// Pendulum (Problem 4 of the paper): over 1 s the total energy T + V + U stays within 1e-3 of
+/// the potential energy exchanged, for Newmark and for the energy-conserving midpoint rule.
+#[test]
+fn pendulum_conserves_energy() {
+    for integrator in [2, 3] {
+        let (mut inst, _) = instance("pendulum", false);
+        set(&mut inst, "solver.integrator", Value::Integer(integrator));
+        assert_eq!(init(&mut inst), Status::Ok);
+        let (_, e0) = get(&mut inst, "energy.total");
+        let (mut drift, mut drop) = (0.0f64, 0.0f64);
+        for k in 0..100 {
+            assert_eq!(inst.do_step(k as f64 * 0.01, 0.01), Status::Ok);
+            let (_, e) = get(&mut inst, "energy.total");
+            let (_, v) = get(&mut inst, "energy.potential");
+            drift = drift.max((e - e0).abs());
+            drop = drop.max(-v);
+        }
+        assert!(drop > 1000.0, "the pendulum falls: potential drop {drop} J");
+        println!("integrator {integrator}: drift {drift:.3e} J of {drop:.1} J");
+        assert!(
+            drift <= 1e-3 * drop,
+            "integrator {integrator}: drift {drift} J vs drop {drop} J"
+        );
+        if integrator == 3 {
+            assert!(
+                drift <= 1e-6 * drop,
+                "midpoint rule conserves energy: drift {drift} J"
+            );
+        }
+    }
+}
