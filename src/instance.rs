@@ -258,15 +258,21 @@ impl Instance {
         Status::Ok
     }
 
-    /// Builds the model from the current parameters and inputs, solves the static equilibrium
-    /// if asked, and refreshes the outputs.
-    fn build(&mut self) -> Result<(), String> {
+    /// Current parameter values.
+    fn param_values(&self) -> ParamValues {
         let mut params = ParamValues::defaults(&self.scene.params);
         for (v, val) in self.vars.vars().iter().zip(&self.values) {
             if let Role::Parameter(name) = v.role {
                 params.set(name, *val);
             }
         }
+        params
+    }
+
+    /// Builds the model from the current parameters and inputs, solves the static equilibrium
+    /// if asked, and refreshes the outputs.
+    fn build(&mut self) -> Result<(), String> {
+        let params = self.param_values();
         let mut model = build_model(&self.scene, &params)?;
         for (v, val) in self.vars.vars().iter().zip(&self.values) {
             if let (Role::Input(kind), Value::Real(x)) = (v.role, val) {
@@ -460,15 +466,10 @@ impl Instance {
                 Ok(())
             }
             (Role::Parameter(_), _) => {
-                let mut params = ParamValues::default();
-                for (var, value) in self.vars.vars().iter().zip(&self.values) {
-                    if let Role::Parameter(n) = var.role {
-                        params.set(n, *value);
-                    }
-                }
-                if let Err(errs) = params.validate() {
+                let params = self.param_values();
+                if let Err(e) = self.scene.validate_params(&params) {
                     self.values[v.vr as usize] = old;
-                    return Err(self.error(errs.join("; ")));
+                    return Err(self.error(e));
                 }
                 let cfg = SolverConfig::from_params(&params);
                 if let Some(sim) = self.sim.as_mut() {

@@ -181,6 +181,56 @@ impl Variable {
     }
 }
 
+/// An input or output a scene kind declares (parameters come from
+/// [`crate::scene::ParamDef`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IoVariable {
+    /// Structured name.
+    pub name: String,
+    /// Input or output.
+    pub causality: Causality,
+    /// Start value (inputs).
+    pub start: Option<f64>,
+    /// Unit.
+    pub unit: &'static str,
+    /// Description.
+    pub description: String,
+    /// Role in the model.
+    pub role: Role,
+}
+
+impl IoVariable {
+    /// A continuous Real input.
+    pub fn input(
+        name: String,
+        start: f64,
+        unit: &'static str,
+        description: String,
+        kind: InputKind,
+    ) -> Self {
+        Self {
+            name,
+            causality: Causality::Input,
+            start: Some(start),
+            unit,
+            description,
+            role: Role::Input(kind),
+        }
+    }
+
+    /// A continuous Real output.
+    pub fn output(name: String, unit: &'static str, description: String, kind: OutputKind) -> Self {
+        Self {
+            name,
+            causality: Causality::Output,
+            start: None,
+            unit,
+            description,
+            role: Role::Output(kind),
+        }
+    }
+}
+
 /// All variables of a scene, in value-reference order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VariableTable {
@@ -188,124 +238,47 @@ pub struct VariableTable {
 }
 
 impl VariableTable {
-    /// Declares the variables a scene needs: its parameters, one input per load component,
-    /// the probe outputs and, if asked for, the energies.
+    /// The variables of a scene: its parameters, then its inputs and outputs, in the order the
+    /// scene declares them.
     pub fn from_scene(scene: &Scene) -> Self {
         let mut vars = Vec::new();
-        let mut push = |name: String,
-                        ty: VarType,
-                        causality: Causality,
-                        variability: Variability,
-                        start: Option<Value>,
-                        unit: Option<&'static str>,
-                        description: String,
-                        range: (Option<f64>, Option<f64>),
-                        role: Role| {
-            let vr = vars.len() as u32;
-            vars.push(Variable {
-                name,
-                vr,
-                ty,
-                causality,
-                variability,
-                start,
-                unit,
-                description,
-                min: range.0,
-                max: range.1,
-                role,
-            });
-        };
         for p in &scene.params {
-            push(
-                p.name.to_string(),
-                p.ty(),
-                Causality::Parameter,
-                match p.variability {
+            let (min, max) = p.check.bounds();
+            vars.push(Variable {
+                name: p.name.to_string(),
+                vr: vars.len() as u32,
+                ty: p.ty(),
+                causality: Causality::Parameter,
+                variability: match p.variability {
                     ParamVariability::Fixed => Variability::Fixed,
                     ParamVariability::Tunable => Variability::Tunable,
                 },
-                Some(p.start),
-                if p.ty() == VarType::Real {
+                start: Some(p.start),
+                unit: if p.ty() == VarType::Real {
                     p.unit
                 } else {
                     None
                 },
-                p.description.clone(),
-                (p.min, p.max),
-                Role::Parameter(p.name),
-            );
+                description: p.description.clone(),
+                min,
+                max,
+                role: Role::Parameter(p.name),
+            });
         }
-        for (i, l) in scene.file.loads.iter().enumerate() {
-            for (axis, (comp, start)) in [("fx", l.fx), ("fy", l.fy)].into_iter().enumerate() {
-                push(
-                    format!("{}.{comp}", l.name),
-                    VarType::Real,
-                    Causality::Input,
-                    Variability::Continuous,
-                    Some(Value::Real(start)),
-                    Some("N"),
-                    format!(
-                        "Force along {} at {} of the length (fixed direction)",
-                        ["x", "y"][axis],
-                        l.at
-                    ),
-                    (None, None),
-                    Role::Input(InputKind::Load { load: i, axis }),
-                );
-            }
-        }
-        for (i, p) in scene.file.probes.iter().enumerate() {
-            for q in &p.outputs {
-                let (suffix, unit, what) = match q {
-                    ProbeQuantity::X => ("x", "m", "Position x"),
-                    ProbeQuantity::Y => ("y", "m", "Position y"),
-                    ProbeQuantity::Vx => ("vx", "m/s", "Velocity x"),
-                    ProbeQuantity::Vy => ("vy", "m/s", "Velocity y"),
-                };
-                push(
-                    format!("{}.{suffix}", p.name),
-                    VarType::Real,
-                    Causality::Output,
-                    Variability::Continuous,
-                    None,
-                    Some(unit),
-                    format!("{what} of the centre line at {} of the length", p.at),
-                    (None, None),
-                    Role::Output(OutputKind::Probe {
-                        probe: i,
-                        quantity: *q,
-                    }),
-                );
-            }
-        }
-        if scene.file.outputs.energy {
-            for (kind, name, what) in [
-                (EnergyKind::Kinetic, "kinetic", "Kinetic energy 1/2 v^T M v"),
-                (
-                    EnergyKind::Potential,
-                    "potential",
-                    "Gravity potential energy relative to y = 0 (-Q_g^T q)",
-                ),
-                (EnergyKind::Strain, "strain", "Strain energy U"),
-                (
-                    EnergyKind::Total,
-                    "total",
-                    "Kinetic + potential + strain energy",
-                ),
-            ] {
-                push(
-                    format!("energy.{name}"),
-                    VarType::Real,
-                    Causality::Output,
-                    Variability::Continuous,
-                    None,
-                    Some("J"),
-                    what.to_string(),
-                    (None, None),
-                    Role::Output(OutputKind::Energy(kind)),
-                );
-            }
+        for v in &scene.io {
+            vars.push(Variable {
+                name: v.name.clone(),
+                vr: vars.len() as u32,
+                ty: VarType::Real,
+                causality: v.causality,
+                variability: Variability::Continuous,
+                start: v.start.map(Value::Real),
+                unit: Some(v.unit),
+                description: v.description.clone(),
+                min: None,
+                max: None,
+                role: v.role,
+            });
         }
         Self { vars }
     }

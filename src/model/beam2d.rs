@@ -7,6 +7,7 @@ use crate::elements::ancf_shear2d::{
     AncfShear2d, ElemMat, ElemVec, NODE_COORDS, Section, ShearRule,
 };
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
+use crate::integrators::DynState;
 use crate::linalg::CscPattern;
 use crate::scene::file::{Axis, ProbeQuantity, SceneFile, SupportKind};
 use crate::scene::params::{ParamValues, names::*};
@@ -73,6 +74,7 @@ impl Beam2d {
     /// Builds the model of a scene with the given parameter values (already validated).
     /// Errors name the scene key or parameter at fault.
     pub fn build(scene: &SceneFile, p: &ParamValues) -> Result<Self, String> {
+        let geometry = scene.geometry.as_ref().ok_or("[geometry] missing")?;
         let n_el = p.integer(MESH_N_ELEMENTS) as usize;
         let length = p.real(GEOMETRY_LENGTH);
         let section = Section {
@@ -101,10 +103,10 @@ impl Beam2d {
 
         let n_nodes = n_el + 1;
         let n_full = n_nodes * NODE_COORDS;
-        let theta = scene.geometry.angle_deg.to_radians();
+        let theta = geometry.angle_deg.to_radians();
         let dir = Vector2::new(theta.cos(), theta.sin());
         let normal = Vector2::new(-dir.y, dir.x);
-        let origin = Vector2::from(scene.geometry.origin);
+        let origin = Vector2::from(geometry.origin);
         let le = length / n_el as f64;
         let mut q0 = vec![0.0; n_full];
         for k in 0..n_nodes {
@@ -339,9 +341,9 @@ impl Model for Beam2d {
         self.output_of(kind)
     }
 
-    fn commit(&mut self, q: &[f64], v: &[f64]) {
-        self.asm.dofs.expand(q, &mut self.q);
-        self.asm.dofs.expand(v, &mut self.v);
+    fn accept(&mut self, state: &mut DynState) {
+        self.asm.dofs.expand(&state.q, &mut self.q);
+        self.asm.dofs.expand(&state.v, &mut self.v);
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {

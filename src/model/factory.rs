@@ -2,14 +2,13 @@
 
 use super::Model;
 use super::beam2d::Beam2d;
-use crate::scene::file::ElementType;
-use crate::scene::{ParamValues, Scene};
+use crate::scene::{ParamValues, Scene, SceneKind};
 
 /// The model of `scene` with parameter values `params` (validated here). Errors name the
 /// parameter or scene key at fault.
 pub fn build_model(scene: &Scene, params: &ParamValues) -> Result<Box<dyn Model>, String> {
-    params.validate().map_err(|e| e.join("; "))?;
-    match scene.file.element.kind {
-        ElementType::AncfShear2d => Ok(Box::new(Beam2d::build(&scene.file, params)?)),
+    scene.validate_params(params)?;
+    match scene.kind {
+        SceneKind::Beam2d => Ok(Box::new(Beam2d::build(&scene.file, params)?)),
     }
 }

@@ -68,12 +68,23 @@ pub trait MechanicalSystem {
 /// A model as the simulation driver and the FMU see it: a mechanical system with inputs,
 /// outputs and a committed state.
 pub trait Model: MechanicalSystem + Send {
-    /// Sets an input value.
+    /// Sets an input value (held until the next call; see
+    /// [`Model::begin_communication_step`]).
     fn set_input(&mut self, kind: crate::variables::InputKind, value: f64);
+
     /// An output of the committed state.
     fn output(&self, kind: crate::variables::OutputKind) -> f64;
-    /// Commits free coordinates and velocities as the current state.
-    fn commit(&mut self, q: &[f64], v: &[f64]);
+
+    /// Called with the state after initialization and after every accepted internal step: the
+    /// model commits it (outputs refer to it) and updates its history (friction states,
+    /// rotation bases). It may re-express the coordinates, e.g. switch a rotation vector to its
+    /// complement, by changing `state` consistently.
+    fn accept(&mut self, state: &mut crate::integrators::DynState);
+
     /// Free coordinates and velocities of the committed state.
     fn free_state(&self, q: &mut [f64], v: &mut [f64]);
+
+    /// Called before the internal steps of a communication step from `t0` to `t1` [s], after
+    /// the inputs of that step were set.
+    fn begin_communication_step(&mut self, _t0: f64, _t1: f64) {}
 }

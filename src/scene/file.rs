@@ -14,14 +14,17 @@ pub struct SceneFile {
     /// Default experiment written into the model description.
     #[serde(default)]
     pub experiment: ExperimentSection,
-    /// Element type and options.
+    /// Element type and options (the type decides the scene kind).
     pub element: ElementSection,
-    /// Mesh.
-    pub mesh: MeshSection,
-    /// Geometry of the body.
-    pub geometry: GeometrySection,
-    /// Material.
-    pub material: MaterialSection,
+    /// Mesh (beam scenes).
+    #[serde(default)]
+    pub mesh: Option<MeshSection>,
+    /// Geometry of the body (beam scenes).
+    #[serde(default)]
+    pub geometry: Option<GeometrySection>,
+    /// Material (continuum elements).
+    #[serde(default)]
+    pub material: Option<MaterialSection>,
     /// Gravity (omit for none: then no gravity parameters are exposed).
     #[serde(default)]
     pub gravity: Option<GravitySection>,

@@ -1,12 +1,24 @@
-//! Scenes: what an FMU models. A TOML file ([`file`]) is parsed, checked, and turned into
-//! parameter definitions ([`params`]); the variable table and the model are built from it.
+//! Scenes: what an FMU models. A TOML file ([`file`]) is parsed and checked; its kind (from
+//! the element type) declares the parameters ([`params`]) and the inputs and outputs, from
+//! which the variable table and the model are built.
 
+pub mod beam2d;
 pub mod file;
 pub mod params;
 mod validate;
 
 pub use file::SceneFile;
 pub use params::{ParamDef, ParamValues};
+
+use crate::variables::IoVariable;
+use file::ElementType;
+
+/// What a scene models, decided by its element type and tables.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneKind {
+    /// A straight planar beam of seed-000 elements with supports, point loads and probes.
+    Beam2d,
+}
 
 /// A parsed and checked scene.
 #[derive(Clone, Debug)]
@@ -15,8 +27,12 @@ pub struct Scene {
     pub file: SceneFile,
     /// The exact text it was parsed from (packaged into the FMU's `resources/`).
     pub text: String,
+    /// Its kind.
+    pub kind: SceneKind,
     /// Parameters the scene exposes, with its values as defaults.
     pub params: Vec<ParamDef>,
+    /// Inputs and outputs the scene exposes.
+    pub io: Vec<IoVariable>,
 }
 
 /// A scene that cannot be used; the message names the key and the problem.
@@ -29,14 +45,32 @@ impl Scene {
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {
         let file: SceneFile =
             toml::from_str(text).map_err(|e| SceneError(format!("scene file: {e}")))?;
-        let params = params::parameter_defs(&file).map_err(SceneError)?;
-        validate::check(&file)
-            .and_then(|_| ParamValues::defaults(&params).validate())
-            .map_err(|errs| SceneError(format!("scene file: {}", errs.join("; "))))?;
+        let kind = match file.element.kind {
+            ElementType::AncfShear2d => SceneKind::Beam2d,
+        };
+        let fail = |errs: Vec<String>| SceneError(format!("scene file: {}", errs.join("; ")));
+        validate::check_common(&file).map_err(fail)?;
+        let (mut params, io) = match kind {
+            SceneKind::Beam2d => {
+                beam2d::check(&file).map_err(fail)?;
+                (
+                    beam2d::params(&file).map_err(|e| fail(vec![e]))?,
+                    beam2d::io(&file),
+                )
+            }
+        };
+        params.extend(params::gravity_params(&file));
+        params.extend(params::solver_params(&file).map_err(|e| fail(vec![e]))?);
+        validate::check_names(&params, &io).map_err(fail)?;
+        ParamValues::defaults(&params)
+            .validate(&params)
+            .map_err(fail)?;
         Ok(Self {
             file,
             text: text.to_string(),
+            kind,
             params,
+            io,
         })
     }
 
@@ -50,5 +84,10 @@ impl Scene {
     /// Model name (also the model identifier).
     pub fn model_name(&self) -> &str {
         &self.file.fmu.model_name
+    }
+
+    /// Checks parameter values (from the importer) against their definitions.
+    pub fn validate_params(&self, values: &ParamValues) -> Result<(), String> {
+        values.validate(&self.params).map_err(|e| e.join("; "))
     }
 }

@@ -1,11 +1,12 @@
-//! FMU parameters of a scene: their definitions (name, type, unit, default from the scene file)
-//! and the validation of their values, shared by the CLI and the FMU.
+//! FMU parameters: definitions (name, type, unit, default from the scene file, admissible
+//! values) and their validation, shared by the CLI and the FMU. Each scene kind declares its
+//! own parameters (e.g. [`super::beam2d`]); the solver and gravity parameters are common.
 
 use super::file::{Choice, SceneFile};
 use crate::variables::{Value, VarType};
 use std::collections::BTreeMap;
 
-/// Parameter names (public interface: never rename silently).
+/// Names of the common parameters (public interface: never rename silently).
 pub mod names {
     /// Young's modulus [Pa].
     pub const MATERIAL_E: &str = "material.E";
@@ -66,6 +67,75 @@ pub enum ParamVariability {
     Tunable,
 }
 
+/// Admissible values of a parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Check {
+    /// Any finite value.
+    Finite,
+    /// `> 0`.
+    Positive,
+    /// `>= 0`.
+    NonNegative,
+    /// In the open interval `(lo, hi)`.
+    Open(f64, f64),
+    /// In the closed interval `[lo, hi]`.
+    Closed(f64, f64),
+    /// An Integer in `[lo, hi]`.
+    IntRange(i32, i32),
+    /// An Integer code from a table of named choices.
+    Choice(&'static [(&'static str, i32)]),
+    /// No check (Booleans).
+    None,
+}
+
+impl Check {
+    /// `None` if `v` is admissible, else what is required.
+    pub fn violation(&self, v: Value) -> Option<String> {
+        let real = |x: f64, ok: bool, what: String| {
+            if !x.is_finite() {
+                Some("must be a finite number".to_string())
+            } else if !ok {
+                Some(what)
+            } else {
+                None
+            }
+        };
+        match (*self, v) {
+            (Check::Finite, Value::Real(x)) => real(x, true, String::new()),
+            (Check::Positive, Value::Real(x)) => real(x, x > 0.0, "must be positive".into()),
+            (Check::NonNegative, Value::Real(x)) => {
+                real(x, x >= 0.0, "must not be negative".into())
+            }
+            (Check::Open(lo, hi), Value::Real(x)) => {
+                real(x, x > lo && x < hi, format!("must lie in ({lo}, {hi})"))
+            }
+            (Check::Closed(lo, hi), Value::Real(x)) => {
+                real(x, x >= lo && x <= hi, format!("must lie in [{lo}, {hi}]"))
+            }
+            (Check::IntRange(lo, hi), Value::Integer(i)) => {
+                (i < lo || i > hi).then(|| format!("must lie in [{lo}, {hi}]"))
+            }
+            (Check::Choice(table), Value::Integer(i)) => (!table.iter().any(|(_, c)| *c == i))
+                .then(|| format!("must be one of {}", describe(table))),
+            _ => None,
+        }
+    }
+
+    /// Declared `min`/`max` for the model description.
+    pub fn bounds(&self) -> (Option<f64>, Option<f64>) {
+        match *self {
+            Check::Positive | Check::NonNegative => (Some(0.0), None),
+            Check::Open(lo, hi) | Check::Closed(lo, hi) => (Some(lo), Some(hi)),
+            Check::IntRange(lo, hi) => (Some(lo as f64), Some(hi as f64)),
+            Check::Choice(t) => (
+                t.iter().map(|(_, c)| *c as f64).reduce(f64::min),
+                t.iter().map(|(_, c)| *c as f64).reduce(f64::max),
+            ),
+            _ => (None, None),
+        }
+    }
+}
+
 /// Definition of one FMU parameter.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamDef {
@@ -79,18 +149,18 @@ pub struct ParamDef {
     pub description: String,
     /// Fixed or tunable.
     pub variability: ParamVariability,
-    /// Declared lower bound, if any.
-    pub min: Option<f64>,
-    /// Declared upper bound, if any.
-    pub max: Option<f64>,
+    /// Admissible values.
+    pub check: Check,
 }
 
 impl ParamDef {
-    fn new(
+    /// A fixed parameter.
+    pub fn new(
         name: &'static str,
         start: Value,
         unit: Option<&'static str>,
         description: &str,
+        check: Check,
     ) -> Self {
         Self {
             name,
@@ -98,16 +168,12 @@ impl ParamDef {
             unit,
             description: description.to_string(),
             variability: ParamVariability::Fixed,
-            min: None,
-            max: None,
+            check,
         }
     }
-    fn range(mut self, min: Option<f64>, max: Option<f64>) -> Self {
-        self.min = min;
-        self.max = max;
-        self
-    }
-    fn tunable(mut self) -> Self {
+
+    /// The same parameter, tunable.
+    pub fn tunable(mut self) -> Self {
         self.variability = ParamVariability::Tunable;
         self
     }
@@ -141,7 +207,8 @@ pub fn resolve_choice(key: &str, choice: &Choice, table: &[(&str, i32)]) -> Resu
     }
 }
 
-fn describe(table: &[(&str, i32)]) -> String {
+/// `"1 = a, 2 = b"` for descriptions and messages.
+pub fn describe(table: &[(&str, i32)]) -> String {
     table
         .iter()
         .map(|(n, c)| format!("{c} = {n}"))
@@ -149,74 +216,44 @@ fn describe(table: &[(&str, i32)]) -> String {
         .join(", ")
 }
 
-/// The parameters a scene exposes, with the scene's values as defaults.
-pub fn parameter_defs(scene: &SceneFile) -> Result<Vec<ParamDef>, String> {
-    let int = |v: i64, key: &str| -> Result<i32, String> {
-        i32::try_from(v).map_err(|_| format!("{key}: {v} does not fit a 32-bit Integer"))
-    };
-    let mut defs = vec![
-        ParamDef::new(MATERIAL_E, Value::Real(scene.material.E), Some("Pa"), "Young's modulus")
-            .range(Some(0.0), None),
-        ParamDef::new(MATERIAL_NU, Value::Real(scene.material.nu), Some("1"), "Poisson's ratio, in (-1, 0.5)")
-            .range(Some(-1.0), Some(0.5)),
-        ParamDef::new(MATERIAL_RHO, Value::Real(scene.material.rho), Some("kg/m3"), "Density")
-            .range(Some(0.0), None),
-        ParamDef::new(GEOMETRY_LENGTH, Value::Real(scene.geometry.length), Some("m"), "Undeformed length")
-            .range(Some(0.0), None),
-        ParamDef::new(GEOMETRY_WIDTH, Value::Real(scene.geometry.width), Some("m"), "Cross-section width (out of plane)")
-            .range(Some(0.0), None),
-        ParamDef::new(GEOMETRY_HEIGHT, Value::Real(scene.geometry.height), Some("m"), "Cross-section height")
-            .range(Some(0.0), None),
-        ParamDef::new(
-            MESH_N_ELEMENTS,
-            Value::Integer(int(scene.mesh.n_elements, MESH_N_ELEMENTS)?),
-            None,
-            "Number of elements",
-        )
-        .range(Some(1.0), None),
-        ParamDef::new(
-            ELEMENT_SHEAR_RULE,
-            Value::Integer(scene.element.shear_rule),
-            None,
-            "Shear-energy integration: 1 = original 1x1 rule, 2 = the 1x2 fix (Kerkkanen et al. 2003, sections 5 and 7)",
-        )
-        .range(Some(1.0), Some(2.0)),
-        ParamDef::new(
-            ELEMENT_STRAIN_ENERGY,
-            Value::Integer(scene.element.strain_energy),
-            None,
-            "Strain energy: 1 = Eq. 12 (no Poisson coupling), 2 = Lame form of Eqs. 10-11",
-        )
-        .range(Some(1.0), Some(2.0)),
-        ParamDef::new(
-            ELEMENT_SHEAR_COEFFICIENT,
-            Value::Real(scene.element.shear_coefficient),
-            Some("1"),
-            "Shear correction factor k_s of Eq. 12",
-        )
-        .range(Some(0.0), None),
-    ];
-    if let Some(g) = &scene.gravity {
-        defs.push(ParamDef::new(
-            GRAVITY_X,
-            Value::Real(g.x),
-            Some("m/s2"),
-            "Gravity, x component",
-        ));
-        defs.push(ParamDef::new(
-            GRAVITY_Y,
-            Value::Real(g.y),
-            Some("m/s2"),
-            "Gravity, y component",
-        ));
+/// An Integer from a TOML integer; the error names the key.
+pub fn int_param(v: i64, key: &str) -> Result<i32, String> {
+    i32::try_from(v).map_err(|_| format!("{key}: {v} does not fit a 32-bit Integer"))
+}
+
+/// Gravity parameters, if the scene has a `[gravity]` table (2D components x, y).
+pub fn gravity_params(scene: &SceneFile) -> Vec<ParamDef> {
+    match &scene.gravity {
+        None => vec![],
+        Some(g) => vec![
+            ParamDef::new(
+                GRAVITY_X,
+                Value::Real(g.x),
+                Some("m/s2"),
+                "Gravity, x component",
+                Check::Finite,
+            ),
+            ParamDef::new(
+                GRAVITY_Y,
+                Value::Real(g.y),
+                Some("m/s2"),
+                "Gravity, y component",
+                Check::Finite,
+            ),
+        ],
     }
+}
+
+/// The `solver.*` parameters common to every scene.
+pub fn solver_params(scene: &SceneFile) -> Result<Vec<ParamDef>, String> {
     let s = &scene.solver;
-    defs.extend([
+    Ok(vec![
         ParamDef::new(
             SOLVER_STATIC,
             Value::Boolean(s.static_equilibrium),
             None,
             "Solve the static equilibrium (Newton with load stepping) during initialization",
+            Check::None,
         ),
         ParamDef::new(
             SOLVER_INTEGRATOR,
@@ -227,46 +264,46 @@ pub fn parameter_defs(scene: &SceneFile) -> Result<Vec<ParamDef>, String> {
             )?),
             None,
             &format!("Time integrator: {}", describe(INTEGRATORS)),
-        )
-        .range(Some(1.0), Some(INTEGRATORS.len() as f64)),
+            Check::Choice(INTEGRATORS),
+        ),
         ParamDef::new(
             SOLVER_RHO_INF,
             Value::Real(s.rho_inf),
             Some("1"),
             "Spectral radius at infinite frequency of generalized-alpha, in [0, 1]",
-        )
-        .range(Some(0.0), Some(1.0)),
+            Check::Closed(0.0, 1.0),
+        ),
         ParamDef::new(
             SOLVER_MAX_STEP,
             Value::Real(s.max_step),
             Some("s"),
             "Largest internal time step",
+            Check::Positive,
         )
-        .range(Some(0.0), None)
         .tunable(),
         ParamDef::new(
             SOLVER_NEWTON_TOL,
             Value::Real(s.newton_tolerance),
             Some("1"),
             "Newton tolerance on the increment, relative to the body length",
+            Check::Open(0.0, 1.0),
         )
-        .range(Some(0.0), None)
         .tunable(),
         ParamDef::new(
             SOLVER_MAX_ITER,
-            Value::Integer(int(s.max_iterations, SOLVER_MAX_ITER)?),
+            Value::Integer(int_param(s.max_iterations, SOLVER_MAX_ITER)?),
             None,
             "Newton iterations before the time step or load increment is halved",
+            Check::IntRange(1, 10_000),
         )
-        .range(Some(1.0), None)
         .tunable(),
         ParamDef::new(
             SOLVER_LOAD_STEPS,
-            Value::Integer(int(s.load_steps, SOLVER_LOAD_STEPS)?),
+            Value::Integer(int_param(s.load_steps, SOLVER_LOAD_STEPS)?),
             None,
             "Initial number of load increments of the static solve (halved on failure)",
-        )
-        .range(Some(1.0), None),
+            Check::IntRange(1, 1_000_000),
+        ),
         ParamDef::new(
             SOLVER_LINEAR,
             Value::Integer(resolve_choice(
@@ -276,10 +313,9 @@ pub fn parameter_defs(scene: &SceneFile) -> Result<Vec<ParamDef>, String> {
             )?),
             None,
             &format!("Linear solver: {}", describe(LINEAR_SOLVERS)),
-        )
-        .range(Some(0.0), Some(2.0)),
-    ]);
-    Ok(defs)
+            Check::Choice(LINEAR_SOLVERS),
+        ),
+    ])
 }
 
 /// Current parameter values by name.
@@ -333,75 +369,31 @@ impl ParamValues {
         }
     }
 
-    /// Checks every value; returns all problems, each naming the parameter.
-    pub fn validate(&self) -> Result<(), Vec<String>> {
+    /// Checks every value against its definition; returns all problems, each naming the
+    /// parameter, its value and what is required.
+    pub fn validate(&self, defs: &[ParamDef]) -> Result<(), Vec<String>> {
         let mut errs = Vec::new();
-        let mut real = |name: &str, ok: fn(f64) -> bool, what: &str| {
-            if let Some(Value::Real(v)) = self.get(name) {
-                if !v.is_finite() {
-                    errs.push(format!("{name} = {v} is not a finite number"));
-                } else if !ok(v) {
-                    errs.push(format!("{name} = {v} is invalid: {what}"));
+        for d in defs {
+            match self.get(d.name) {
+                Some(v) if v.ty() != d.ty() => {
+                    errs.push(format!("{}: wrong type {:?}", d.name, v.ty()))
                 }
-            }
-        };
-        real(MATERIAL_E, |v| v > 0.0, "Young's modulus must be positive");
-        real(
-            MATERIAL_NU,
-            |v| v > -1.0 && v < 0.5,
-            "Poisson's ratio must lie in (-1, 0.5)",
-        );
-        real(MATERIAL_RHO, |v| v > 0.0, "density must be positive");
-        real(GEOMETRY_LENGTH, |v| v > 0.0, "length must be positive");
-        real(GEOMETRY_WIDTH, |v| v > 0.0, "width must be positive");
-        real(GEOMETRY_HEIGHT, |v| v > 0.0, "height must be positive");
-        real(
-            ELEMENT_SHEAR_COEFFICIENT,
-            |v| v > 0.0,
-            "shear coefficient must be positive",
-        );
-        real(GRAVITY_X, |_| true, "");
-        real(GRAVITY_Y, |_| true, "");
-        real(
-            SOLVER_RHO_INF,
-            |v| (0.0..=1.0).contains(&v),
-            "must lie in [0, 1]",
-        );
-        real(SOLVER_MAX_STEP, |v| v > 0.0, "must be positive");
-        real(
-            SOLVER_NEWTON_TOL,
-            |v| v > 0.0 && v < 1.0,
-            "must lie in (0, 1)",
-        );
-        let mut int = |name: &str, lo: i32, hi: i32, what: &str| {
-            if let Some(Value::Integer(v)) = self.get(name) {
-                if v < lo || v > hi {
-                    errs.push(format!("{name} = {v} is invalid: {what}"));
+                Some(v) => {
+                    if let Some(why) = d.check.violation(v) {
+                        let shown = match v {
+                            Value::Real(x) => format!("{x}"),
+                            Value::Integer(i) => format!("{i}"),
+                            Value::Boolean(b) => format!("{b}"),
+                        };
+                        errs.push(format!(
+                            "{} = {shown} is invalid: {why} ({})",
+                            d.name, d.description
+                        ));
+                    }
                 }
+                None => errs.push(format!("{}: missing", d.name)),
             }
-        };
-        int(
-            MESH_N_ELEMENTS,
-            1,
-            1_000_000,
-            "need at least 1 element (at most 1e6)",
-        );
-        int(
-            ELEMENT_SHEAR_RULE,
-            1,
-            2,
-            "1 = original 1x1 rule, 2 = the 1x2 fix",
-        );
-        int(ELEMENT_STRAIN_ENERGY, 1, 2, "1 = Eq. 12, 2 = Lame form");
-        int(
-            SOLVER_INTEGRATOR,
-            1,
-            INTEGRATORS.len() as i32,
-            &describe(INTEGRATORS),
-        );
-        int(SOLVER_MAX_ITER, 1, 10_000, "must be at least 1");
-        int(SOLVER_LOAD_STEPS, 1, 1_000_000, "must be at least 1");
-        int(SOLVER_LINEAR, 0, 2, &describe(LINEAR_SOLVERS));
+        }
         if errs.is_empty() { Ok(()) } else { Err(errs) }
     }
 }

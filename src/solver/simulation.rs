@@ -132,8 +132,8 @@ impl Simulation {
                 s.increments, s.newton.iterations
             ));
         }
-        self.model.commit(&self.state.q, &self.state.v);
         self.restart_accelerations()?;
+        self.model.accept(&mut self.state);
         Ok(report)
     }
 
@@ -214,6 +214,7 @@ impl Simulation {
     /// Advances to `t_end` with substeps of at most `solver.max_step`, halving a substep when
     /// Newton fails. On failure the state stays at the last accepted substep.
     pub fn advance(&mut self, t_end: f64) -> Result<(), AdvanceError> {
+        self.model.begin_communication_step(self.state.t, t_end);
         if self.inputs_changed {
             self.restart_accelerations()
                 .map_err(|message| AdvanceError {
@@ -246,6 +247,7 @@ impl Simulation {
                         self.trial.t = t_end;
                     }
                     std::mem::swap(&mut self.state, &mut self.trial);
+                    self.model.accept(&mut self.state);
                     // Grow back towards the nominal step after a cut.
                     if h_limit < h_max {
                         h_limit = (2.0 * h_limit).min(h_max);
@@ -255,7 +257,6 @@ impl Simulation {
                     self.stats.rejected += 1;
                     h_limit = 0.5 * h;
                     if h_limit < h_min {
-                        self.model.commit(&self.state.q, &self.state.v);
                         return Err(AdvanceError {
                             reached: self.state.t,
                             message: format!(
@@ -268,7 +269,6 @@ impl Simulation {
             }
         }
         self.state.t = t_end;
-        self.model.commit(&self.state.q, &self.state.v);
         Ok(())
     }
 }
@@ -338,9 +338,9 @@ mod tests {
         fn output(&self, _k: OutputKind) -> f64 {
             self.q
         }
-        fn commit(&mut self, q: &[f64], v: &[f64]) {
-            self.q = q[0];
-            self.v = v[0];
+        fn accept(&mut self, s: &mut DynState) {
+            self.q = s.q[0];
+            self.v = s.v[0];
         }
         fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
             q[0] = self.q;

@@ -1,0 +1,234 @@
+//! Scene kind "planar beam" (seed-000 elements): required tables, parameters, inputs and
+//! outputs.
+
+use super::file::{ProbeQuantity, SceneFile, SupportKind};
+use super::params::{Check, ParamDef, int_param, names::*};
+use super::validate::is_identifier;
+use crate::variables::{EnergyKind, InputKind, IoVariable, OutputKind, Value};
+use std::collections::BTreeSet;
+
+/// Problems of a planar-beam scene: required tables, supports, loads, probes.
+pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
+    let mut errs = Vec::new();
+    for (name, present) in [
+        ("mesh", s.mesh.is_some()),
+        ("geometry", s.geometry.is_some()),
+        ("material", s.material.is_some()),
+    ] {
+        if !present {
+            errs.push(format!(
+                "[{name}]: required for element type \"ancf_shear_2d\""
+            ));
+        }
+    }
+    if let Some(g) = &s.geometry {
+        if !g.origin.iter().all(|v| v.is_finite()) || !g.angle_deg.is_finite() {
+            errs.push("geometry.origin / geometry.angle_deg: must be finite numbers".into());
+        }
+    }
+    let at_ok = |key: String, at: f64, errs: &mut Vec<String>| {
+        if !(0.0..=1.0).contains(&at) {
+            errs.push(format!(
+                "{key}.at = {at}: must lie in [0, 1] (a fraction of the length)"
+            ));
+        }
+    };
+    let name_ok = |key: String, name: &str, errs: &mut Vec<String>| {
+        if !is_identifier(name) {
+            errs.push(format!(
+                "{key}.name = \"{name}\": must start with a letter and contain only letters, digits and '_'"
+            ));
+        }
+    };
+    for (i, sup) in s.supports.iter().enumerate() {
+        let key = format!("supports[{i}]");
+        at_ok(key.clone(), sup.at, &mut errs);
+        match (sup.kind, sup.fixed) {
+            (SupportKind::Roller, None) => errs.push(format!(
+                "{key}.fixed: a roller needs the fixed direction, \"x\" or \"y\""
+            )),
+            (SupportKind::Clamp | SupportKind::Pin, Some(_)) => errs.push(format!(
+                "{key}.fixed: only a roller takes a fixed direction"
+            )),
+            _ => {}
+        }
+    }
+    for (i, l) in s.loads.iter().enumerate() {
+        let key = format!("loads[{i}]");
+        name_ok(key.clone(), &l.name, &mut errs);
+        at_ok(key.clone(), l.at, &mut errs);
+        if !l.fx.is_finite() || !l.fy.is_finite() {
+            errs.push(format!("{key}: fx and fy must be finite"));
+        }
+    }
+    for (i, p) in s.probes.iter().enumerate() {
+        let key = format!("probes[{i}]");
+        name_ok(key.clone(), &p.name, &mut errs);
+        at_ok(key.clone(), p.at, &mut errs);
+        if p.outputs.is_empty() {
+            errs.push(format!(
+                "{key}.outputs: empty; list at least one of x, y, vx, vy"
+            ));
+        }
+        let mut seen = BTreeSet::new();
+        for q in &p.outputs {
+            if !seen.insert(format!("{q:?}")) {
+                errs.push(format!("{key}.outputs: {q:?} listed twice"));
+            }
+        }
+    }
+    if errs.is_empty() { Ok(()) } else { Err(errs) }
+}
+
+/// Parameters of a planar-beam scene (the tables exist: [`check`] passed).
+pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
+    let (m, g, mesh) = (
+        s.material.as_ref().ok_or("[material] missing")?,
+        s.geometry.as_ref().ok_or("[geometry] missing")?,
+        s.mesh.as_ref().ok_or("[mesh] missing")?,
+    );
+    let real = |v: f64| Value::Real(v);
+    Ok(vec![
+        ParamDef::new(
+            MATERIAL_E,
+            real(m.E),
+            Some("Pa"),
+            "Young's modulus",
+            Check::Positive,
+        ),
+        ParamDef::new(
+            MATERIAL_NU,
+            real(m.nu),
+            Some("1"),
+            "Poisson's ratio, in (-1, 0.5)",
+            Check::Open(-1.0, 0.5),
+        ),
+        ParamDef::new(
+            MATERIAL_RHO,
+            real(m.rho),
+            Some("kg/m3"),
+            "Density",
+            Check::Positive,
+        ),
+        ParamDef::new(
+            GEOMETRY_LENGTH,
+            real(g.length),
+            Some("m"),
+            "Undeformed length",
+            Check::Positive,
+        ),
+        ParamDef::new(
+            GEOMETRY_WIDTH,
+            real(g.width),
+            Some("m"),
+            "Cross-section width (out of plane)",
+            Check::Positive,
+        ),
+        ParamDef::new(
+            GEOMETRY_HEIGHT,
+            real(g.height),
+            Some("m"),
+            "Cross-section height",
+            Check::Positive,
+        ),
+        ParamDef::new(
+            MESH_N_ELEMENTS,
+            Value::Integer(int_param(mesh.n_elements, MESH_N_ELEMENTS)?),
+            None,
+            "Number of elements",
+            Check::IntRange(1, 100_000),
+        ),
+        ParamDef::new(
+            ELEMENT_SHEAR_RULE,
+            Value::Integer(s.element.shear_rule),
+            None,
+            "Shear-energy integration: 1 = original 1x1 rule, 2 = the 1x2 fix (Kerkkanen et al. 2003, sections 5 and 7)",
+            Check::IntRange(1, 2),
+        ),
+        ParamDef::new(
+            ELEMENT_STRAIN_ENERGY,
+            Value::Integer(s.element.strain_energy),
+            None,
+            "Strain energy: 1 = Eq. 12 (no Poisson coupling), 2 = Lame form of Eqs. 10-11",
+            Check::IntRange(1, 2),
+        ),
+        ParamDef::new(
+            ELEMENT_SHEAR_COEFFICIENT,
+            real(s.element.shear_coefficient),
+            Some("1"),
+            "Shear correction factor k_s of Eq. 12",
+            Check::Positive,
+        ),
+    ])
+}
+
+/// Inputs (load components) and outputs (probe quantities, energies) of a planar-beam scene.
+pub fn io(s: &SceneFile) -> Vec<IoVariable> {
+    let mut out = Vec::new();
+    for (i, l) in s.loads.iter().enumerate() {
+        for (axis, (comp, start)) in [("fx", l.fx), ("fy", l.fy)].into_iter().enumerate() {
+            out.push(IoVariable::input(
+                format!("{}.{comp}", l.name),
+                start,
+                "N",
+                format!(
+                    "Force along {} at {} of the length (fixed direction)",
+                    ["x", "y"][axis],
+                    l.at
+                ),
+                InputKind::Load { load: i, axis },
+            ));
+        }
+    }
+    for (i, p) in s.probes.iter().enumerate() {
+        for q in &p.outputs {
+            let (suffix, unit, what) = match q {
+                ProbeQuantity::X => ("x", "m", "Position x"),
+                ProbeQuantity::Y => ("y", "m", "Position y"),
+                ProbeQuantity::Vx => ("vx", "m/s", "Velocity x"),
+                ProbeQuantity::Vy => ("vy", "m/s", "Velocity y"),
+            };
+            out.push(IoVariable::output(
+                format!("{}.{suffix}", p.name),
+                unit,
+                format!("{what} of the centre line at {} of the length", p.at),
+                OutputKind::Probe {
+                    probe: i,
+                    quantity: *q,
+                },
+            ));
+        }
+    }
+    if s.outputs.energy {
+        out.extend(energy_outputs());
+    }
+    out
+}
+
+/// `energy.kinetic`, `energy.potential`, `energy.strain`, `energy.total` [J].
+pub fn energy_outputs() -> Vec<IoVariable> {
+    [
+        (EnergyKind::Kinetic, "kinetic", "Kinetic energy 1/2 v^T M v"),
+        (
+            EnergyKind::Potential,
+            "potential",
+            "Gravity potential energy relative to y = 0 (-Q_g^T q)",
+        ),
+        (EnergyKind::Strain, "strain", "Strain energy U"),
+        (
+            EnergyKind::Total,
+            "total",
+            "Kinetic + potential + strain energy",
+        ),
+    ]
+    .into_iter()
+    .map(|(kind, name, what)| {
+        IoVariable::output(
+            format!("energy.{name}"),
+            "J",
+            what.into(),
+            OutputKind::Energy(kind),
+        )
+    })
+    .collect()
+}
