@@ -167,6 +167,8 @@ pub struct Variable {
     pub max: Option<f64>,
     /// What the variable means to the model.
     pub role: Role,
+    /// Outputs: value references of the inputs it depends on directly.
+    pub depends_on: Vec<u32>,
 }
 
 impl Variable {
@@ -197,6 +199,9 @@ pub struct IoVariable {
     pub description: String,
     /// Role in the model.
     pub role: Role,
+    /// For outputs: the inputs (by name) it depends on directly at a communication point
+    /// (direct feedthrough, written as ModelStructure dependencies). Empty: none.
+    pub depends_on: Vec<String>,
 }
 
 impl IoVariable {
@@ -215,6 +220,7 @@ impl IoVariable {
             unit,
             description,
             role: Role::Input(kind),
+            depends_on: vec![],
         }
     }
 
@@ -227,7 +233,14 @@ impl IoVariable {
             unit,
             description,
             role: Role::Output(kind),
+            depends_on: vec![],
         }
+    }
+
+    /// The same output with direct feedthrough from the named inputs.
+    pub fn depending_on(mut self, inputs: &[&str]) -> Self {
+        self.depends_on = inputs.iter().map(|s| s.to_string()).collect();
+        self
     }
 }
 
@@ -263,8 +276,10 @@ impl VariableTable {
                 min,
                 max,
                 role: Role::Parameter(p.name),
+                depends_on: vec![],
             });
         }
+        let first_io = vars.len();
         for v in &scene.io {
             vars.push(Variable {
                 name: v.name.clone(),
@@ -278,7 +293,24 @@ impl VariableTable {
                 min: None,
                 max: None,
                 role: v.role,
+                depends_on: vec![],
             });
+        }
+        for (k, v) in scene.io.iter().enumerate() {
+            let mut deps: Vec<u32> = v
+                .depends_on
+                .iter()
+                .map(|n| {
+                    scene
+                        .io
+                        .iter()
+                        .position(|w| &w.name == n && w.causality == Causality::Input)
+                        .map(|i| (first_io + i) as u32)
+                        .unwrap_or_else(|| panic!("{}: depends on unknown input {n}", v.name))
+                })
+                .collect();
+            deps.sort_unstable();
+            vars[first_io + k].depends_on = deps;
         }
         Self { vars }
     }
