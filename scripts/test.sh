@@ -4,6 +4,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
+scripts/system_deps.sh
 python="$(scripts/env.sh)"
 cargo test --release
 scripts/build_fmus.sh

@@ -14,6 +14,16 @@ pub fn fnv1a_128(data: &[u8]) -> u128 {
     h
 }
 
+/// 64-bit FNV-1a hash (checksums of serialized FMU states).
+pub fn fnv1a_64(data: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf29ce484222325;
+    for &b in data {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x100000001b3);
+    }
+    h
+}
+
 /// `{xxxxxxxx-xxxx-xxxx-xxxx-xxxxxxxxxxxx}` from the hash of `data`.
 pub fn guid_of(data: &[u8]) -> String {
     let h = fnv1a_128(data);
@@ -40,5 +50,6 @@ mod tests {
         let g = guid_of(b"x");
         assert_eq!(g.len(), 38);
         assert_ne!(guid_of(b"x"), guid_of(b"y"));
+        assert_eq!(fnv1a_64(b"a"), 0xaf63dc4c8601ec8c);
     }
 }

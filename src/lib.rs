@@ -25,5 +25,6 @@ pub mod model;
 pub mod model_description;
 pub mod packaging;
 pub mod scene;
+pub mod snapshot;
 pub mod solver;
 pub mod variables;

@@ -4,7 +4,7 @@
 
 use crate::guid::guid_of;
 use crate::logging::CATEGORIES;
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneKind};
 use crate::variables::{Causality, VarType, VariableTable, unit_exponents};
 use quick_xml::Writer;
 use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, Event};
@@ -26,15 +26,19 @@ pub struct Capabilities {
     pub directional_derivative: bool,
 }
 
-/// What this version of flexfmu supports.
-pub const CAPABILITIES: Capabilities = Capabilities {
-    variable_step: true,
-    interpolate_inputs: false,
-    max_output_derivative_order: 0,
-    get_set_state: false,
-    serialize_state: false,
-    directional_derivative: false,
-};
+/// What an FMU of a scene kind supports.
+pub fn capabilities(kind: SceneKind) -> Capabilities {
+    match kind {
+        SceneKind::Beam2d => Capabilities {
+            variable_step: true,
+            interpolate_inputs: true,
+            max_output_derivative_order: 1,
+            get_set_state: true,
+            serialize_state: true,
+            directional_derivative: true,
+        },
+    }
+}
 
 const GUID_PLACEHOLDER: &str = "{00000000-0000-0000-0000-000000000000}";
 
@@ -81,7 +85,7 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
         ]),
     )));
 
-    let c = CAPABILITIES;
+    let c = capabilities(scene.kind);
     let order = c.max_output_derivative_order.to_string();
     io(w.write_event(Event::Empty(
         BytesStart::new("CoSimulation").with_attributes([

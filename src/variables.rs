@@ -115,6 +115,14 @@ pub enum InputKind {
         /// 0 = x, 1 = y.
         axis: usize,
     },
+    /// Prescribed motion of a port: `component` 0, 1 = position x, y [m]; 2, 3 = velocity
+    /// x, y [m/s].
+    Motion {
+        /// Index into the scene's motion ports.
+        port: usize,
+        /// 0 = x, 1 = y, 2 = vx, 3 = vy.
+        component: usize,
+    },
 }
 
 /// What an output reports.
@@ -129,6 +137,13 @@ pub enum OutputKind {
     },
     /// An energy.
     Energy(EnergyKind),
+    /// Force exerted by the body on whatever drives a motion port [N], component `axis`.
+    Reaction {
+        /// Index into the scene's motion ports.
+        port: usize,
+        /// 0 = x, 1 = y.
+        axis: usize,
+    },
 }
 
 /// Role of a variable in the model.

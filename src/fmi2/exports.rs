@@ -478,36 +478,125 @@ pub unsafe extern "C" fn fmi2SetString(
 }
 
 // ---------------------------------------------------------------------------------------------
-// FMU state, derivatives (capabilities not offered: flags are false)
+// FMU state and derivatives
 // ---------------------------------------------------------------------------------------------
 
-/// fmi2GetFMUstate
+/// Marks a live FMU state ("flexstat"); zeroed when freed.
+const STATE_MAGIC: u64 = 0x666c_6578_7374_6174;
+
+/// An FMU state handed to the importer: the serialized bytes.
+#[repr(C)]
+struct StateBox {
+    magic: u64,
+    bytes: Vec<u8>,
+}
+
+/// The live state behind `p`, if it is one.
+///
+/// SAFETY: `p` is null or a pointer returned by fmi2GetFMUstate / fmi2DeSerializeFMUstate; a
+/// freed or foreign pointer is detected through the magic number as far as reading 8 bytes
+/// from it is possible.
+unsafe fn state_box<'a>(p: Fmi2FmuState) -> Option<&'a mut StateBox> {
+    if p.is_null() || (p as usize) % std::mem::align_of::<StateBox>() != 0 {
+        return None;
+    }
+    let b = p as *mut StateBox;
+    // SAFETY: non-null and aligned; the importer passes what we returned.
+    unsafe {
+        if ptr::read_volatile(&(*b).magic) != STATE_MAGIC {
+            return None;
+        }
+        Some(&mut *b)
+    }
+}
+
+fn bad_state(inst: &mut Instance, call: Call) -> Status {
+    inst.error(format!(
+        "{}: the FMUstate argument is not a live FMU state of flexfmu",
+        call.name()
+    ))
+}
+
+/// fmi2GetFMUstate: a new state, or the given one updated in place.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi2GetFMUstate(
-    c: Fmi2Component,
-    _state: *mut Fmi2FmuState,
-) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetFMUstate(c: Fmi2Component, state: *mut Fmi2FmuState) -> Fmi2Status {
     guarded(c, |inst| {
-        inst.unsupported(Call::GetFmuState, "canGetAndSetFMUstate")
+        if state.is_null() {
+            return null_args(inst, Call::GetFmuState);
+        }
+        let bytes = match inst.save_fmu_state(Call::GetFmuState) {
+            Ok(b) => b,
+            Err(s) => return s,
+        };
+        // SAFETY: non-null out-pointer (FMI contract).
+        let existing = unsafe { *state };
+        if existing.is_null() {
+            let b = Box::new(StateBox {
+                magic: STATE_MAGIC,
+                bytes,
+            });
+            // SAFETY: as above.
+            unsafe { *state = Box::into_raw(b) as Fmi2FmuState };
+            return Status::Ok;
+        }
+        // SAFETY: see `state_box`.
+        match unsafe { state_box(existing) } {
+            Some(b) => {
+                b.bytes = bytes;
+                Status::Ok
+            }
+            None => bad_state(inst, Call::GetFmuState),
+        }
     })
 }
 
 /// fmi2SetFMUstate
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi2SetFMUstate(c: Fmi2Component, _state: Fmi2FmuState) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SetFMUstate(c: Fmi2Component, state: Fmi2FmuState) -> Fmi2Status {
     guarded(c, |inst| {
-        inst.unsupported(Call::SetFmuState, "canGetAndSetFMUstate")
+        // SAFETY: see `state_box`.
+        match unsafe { state_box(state) } {
+            Some(b) => {
+                let bytes = std::mem::take(&mut b.bytes);
+                let s = inst.restore_fmu_state(&bytes);
+                b.bytes = bytes;
+                s
+            }
+            None => bad_state(inst, Call::SetFmuState),
+        }
     })
 }
 
-/// fmi2FreeFMUstate
+/// fmi2FreeFMUstate: frees the state and sets `*state` to NULL (a NULL state is a no-op).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2FreeFMUstate(
     c: Fmi2Component,
-    _state: *mut Fmi2FmuState,
+    state: *mut Fmi2FmuState,
 ) -> Fmi2Status {
     guarded(c, |inst| {
-        inst.unsupported(Call::FreeFmuState, "canGetAndSetFMUstate")
+        if let Err(s) = inst.check(Call::FreeFmuState) {
+            return s;
+        }
+        if state.is_null() {
+            return null_args(inst, Call::FreeFmuState);
+        }
+        // SAFETY: non-null out-pointer.
+        let p = unsafe { *state };
+        if p.is_null() {
+            return Status::Ok;
+        }
+        // SAFETY: see `state_box`.
+        match unsafe { state_box(p) } {
+            Some(b) => {
+                b.magic = 0;
+                // SAFETY: allocated by Box::into_raw here and freed once (magic now zero).
+                drop(unsafe { Box::from_raw(p as *mut StateBox) });
+                // SAFETY: as above.
+                unsafe { *state = ptr::null_mut() };
+                Status::Ok
+            }
+            None => bad_state(inst, Call::FreeFmuState),
+        }
     })
 }
 
@@ -515,37 +604,86 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     c: Fmi2Component,
-    _state: Fmi2FmuState,
-    _size: *mut usize,
+    state: Fmi2FmuState,
+    size: *mut usize,
 ) -> Fmi2Status {
     guarded(c, |inst| {
-        inst.unsupported(Call::SerializedFmuStateSize, "canSerializeFMUstate")
+        if let Err(s) = inst.check(Call::SerializedFmuStateSize) {
+            return s;
+        }
+        if size.is_null() {
+            return null_args(inst, Call::SerializedFmuStateSize);
+        }
+        // SAFETY: see `state_box`.
+        match unsafe { state_box(state) } {
+            Some(b) => {
+                // SAFETY: non-null out-pointer.
+                unsafe { *size = b.bytes.len() };
+                Status::Ok
+            }
+            None => bad_state(inst, Call::SerializedFmuStateSize),
+        }
     })
 }
 
-/// fmi2SerializeFMUstate
+/// fmi2SerializeFMUstate: copies the state into a buffer of at least the serialized size.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SerializeFMUstate(
     c: Fmi2Component,
-    _state: Fmi2FmuState,
-    _bytes: *mut Fmi2Byte,
-    _size: usize,
+    state: Fmi2FmuState,
+    bytes: *mut Fmi2Byte,
+    size: usize,
 ) -> Fmi2Status {
     guarded(c, |inst| {
-        inst.unsupported(Call::SerializeFmuState, "canSerializeFMUstate")
+        if let Err(s) = inst.check(Call::SerializeFmuState) {
+            return s;
+        }
+        // SAFETY: see `state_box`.
+        let Some(b) = (unsafe { state_box(state) }) else {
+            return bad_state(inst, Call::SerializeFmuState);
+        };
+        let n = b.bytes.len();
+        if size < n {
+            return inst.error(format!(
+                "fmi2SerializeFMUstate: buffer of {size} bytes, the state needs {n} (fmi2SerializedFMUstateSize)"
+            ));
+        }
+        // SAFETY: FMI contract: `bytes` holds `size` >= n writable bytes.
+        let Some(out) = (unsafe { slice_mut(bytes as *mut u8, n) }) else {
+            return null_args(inst, Call::SerializeFmuState);
+        };
+        out.copy_from_slice(&b.bytes);
+        Status::Ok
     })
 }
 
-/// fmi2DeSerializeFMUstate
+/// fmi2DeSerializeFMUstate: checks the bytes (format, version, GUID, checksum) and makes a new
+/// FMU state of them.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     c: Fmi2Component,
-    _bytes: *const Fmi2Byte,
-    _size: usize,
-    _state: *mut Fmi2FmuState,
+    bytes: *const Fmi2Byte,
+    size: usize,
+    state: *mut Fmi2FmuState,
 ) -> Fmi2Status {
     guarded(c, |inst| {
-        inst.unsupported(Call::DeSerializeFmuState, "canSerializeFMUstate")
+        // SAFETY: FMI contract: `bytes` holds `size` bytes.
+        let Some(data) = (unsafe { slice(bytes as *const u8, size) }) else {
+            return null_args(inst, Call::DeSerializeFmuState);
+        };
+        if state.is_null() {
+            return null_args(inst, Call::DeSerializeFmuState);
+        }
+        if let Err(s) = inst.check_fmu_state(Call::DeSerializeFmuState, data) {
+            return s;
+        }
+        let b = Box::new(StateBox {
+            magic: STATE_MAGIC,
+            bytes: data.to_vec(),
+        });
+        // SAFETY: non-null out-pointer.
+        unsafe { *state = Box::into_raw(b) as Fmi2FmuState };
+        Status::Ok
     })
 }
 
@@ -553,18 +691,26 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: Fmi2Component,
-    _unknown: *const Fmi2ValueReference,
-    _n_unknown: usize,
-    _known: *const Fmi2ValueReference,
-    _n_known: usize,
-    _dv_known: *const Fmi2Real,
-    _dv_unknown: *mut Fmi2Real,
+    unknown: *const Fmi2ValueReference,
+    n_unknown: usize,
+    known: *const Fmi2ValueReference,
+    n_known: usize,
+    dv_known: *const Fmi2Real,
+    dv_unknown: *mut Fmi2Real,
 ) -> Fmi2Status {
     guarded(c, |inst| {
-        inst.unsupported(
-            Call::GetDirectionalDerivative,
-            "providesDirectionalDerivative",
-        )
+        // SAFETY: FMI contract: arrays of the given lengths.
+        let (Some(u), Some(k), Some(dk), Some(du)) = (unsafe {
+            (
+                slice(unknown, n_unknown),
+                slice(known, n_known),
+                slice(dv_known, n_known),
+                slice_mut(dv_unknown, n_unknown),
+            )
+        }) else {
+            return null_args(inst, Call::GetDirectionalDerivative);
+        };
+        inst.get_directional_derivative(u, k, dk, du)
     })
 }
 
@@ -572,13 +718,19 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     c: Fmi2Component,
-    _vr: *const Fmi2ValueReference,
-    _nvr: usize,
-    _order: *const Fmi2Integer,
-    _value: *const Fmi2Real,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    order: *const Fmi2Integer,
+    value: *const Fmi2Real,
 ) -> Fmi2Status {
     guarded(c, |inst| {
-        inst.unsupported(Call::SetRealInputDerivatives, "canInterpolateInputs")
+        // SAFETY: FMI contract: arrays of length `nvr`.
+        let (Some(v), Some(o), Some(x)) =
+            (unsafe { (slice(vr, nvr), slice(order, nvr), slice(value, nvr)) })
+        else {
+            return null_args(inst, Call::SetRealInputDerivatives);
+        };
+        inst.set_real_input_derivatives(v, o, x)
     })
 }
 
@@ -586,16 +738,19 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     c: Fmi2Component,
-    _vr: *const Fmi2ValueReference,
-    _nvr: usize,
-    _order: *const Fmi2Integer,
-    _value: *mut Fmi2Real,
+    vr: *const Fmi2ValueReference,
+    nvr: usize,
+    order: *const Fmi2Integer,
+    value: *mut Fmi2Real,
 ) -> Fmi2Status {
     guarded(c, |inst| {
-        inst.unsupported(
-            Call::GetRealOutputDerivatives,
-            "maxOutputDerivativeOrder > 0",
-        )
+        // SAFETY: FMI contract: arrays of length `nvr`.
+        let (Some(v), Some(o), Some(x)) =
+            (unsafe { (slice(vr, nvr), slice(order, nvr), slice_mut(value, nvr)) })
+        else {
+            return null_args(inst, Call::GetRealOutputDerivatives);
+        };
+        inst.get_real_output_derivatives(v, o, x)
     })
 }
 

@@ -22,7 +22,6 @@ impl Midpoint {
         h: f64,
         s1: &mut DynState,
     ) -> Result<NewtonStats, NewtonError> {
-        let t_mid = s0.t + 0.5 * h;
         let coeffs = JacobianCoeffs {
             mass: 1.0,
             damping: 0.5 * h,
@@ -40,7 +39,7 @@ impl Midpoint {
         // v holds the midpoint velocity during the iteration (for damping forces).
         let res = newton::solve(ws, &mut acc, settings, coeffs.stiffness, |x, r, jac| {
             update(x, q, v);
-            sys.midpoint_residual(t_mid, &s0.q, q, v, x, r, jac.map(|j| (coeffs, j)))
+            sys.midpoint_residual(s0.t, s0.t + h, &s0.q, q, v, x, r, jac.map(|j| (coeffs, j)))
         });
         for i in 0..acc.len() {
             s1.q[i] = s0.q[i] + h * s0.v[i] + 0.5 * h * h * acc[i];

@@ -8,9 +8,11 @@ use crate::elements::ancf_shear2d::{
 };
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::integrators::DynState;
-use crate::linalg::CscPattern;
+use crate::linalg::{CscPattern, LinearSolver, SolverKind};
+use crate::model::inputs::InputSignal;
 use crate::scene::file::{Axis, ProbeQuantity, SceneFile, SupportKind};
 use crate::scene::params::{ParamValues, names::*};
+use crate::snapshot::{StateReader, StateWriter};
 use crate::variables::{EnergyKind, InputKind, OutputKind};
 use nalgebra::Vector2;
 
@@ -56,18 +58,72 @@ pub struct Beam2d {
     mass_vals: Vec<f64>,
     gravity_full: Vec<f64>,
     q0: Vec<f64>,
-    loads: Vec<PointMap>,
-    load_values: Vec<[f64; 2]>,
+    load_maps: Vec<PointMap>,
+    loads: Vec<[InputSignal; 2]>,
+    /// Node of every motion port.
+    motion_nodes: Vec<usize>,
+    /// Inputs of every motion port: x, y [m], vx, vy [m/s].
+    motions: Vec<[InputSignal; 4]>,
     probes: Vec<PointMap>,
     scales: Vec<f64>,
     // committed state (outputs are computed from it)
+    t: f64,
     q: Vec<f64>,
     v: Vec<f64>,
+    acc: Vec<f64>,
     // work buffers
     qw: Vec<f64>,
     qw2: Vec<f64>,
     aw: Vec<f64>,
     fw: Vec<f64>,
+    /// Interface Jacobian of the motion ports, see [`Beam2d::interface_jacobian`].
+    interface: Interface,
+    /// Keep motion ports at their committed positions (see `Model::hold_prescribed_motion`).
+    hold_ports: bool,
+}
+
+/// Interface Jacobian of the motion ports (after Sicklinger, Belsky, Engelmann, Elmqvist,
+/// Olsson, Wüchner, Bletzinger: "Interface Jacobian-based Co-Simulation", IJNME 98, 2014): the
+/// change of the port reactions after one Newmark step of size `h` when the prescribed port
+/// trajectory is shifted by a constant displacement (the port's acceleration is given by the
+/// inputs, so it does not change), with the interior responding:
+/// `K_int = K_cc − S_cf S_ff⁻¹ K_fc`, `S = K_T + (4/h²) M`.
+#[derive(Debug, Default)]
+struct Interface {
+    /// Step size of the condensation [s] (the last communication step).
+    h: f64,
+    /// `K_int` (2P × 2P, row-major over the port coordinates) at the committed state.
+    matrix: Option<Vec<f64>>,
+    solver: Option<LinearSolver>,
+    vals: Vec<f64>,
+}
+
+impl Clone for Interface {
+    fn clone(&self) -> Self {
+        Self {
+            h: self.h,
+            matrix: self.matrix.clone(),
+            solver: None,
+            vals: Vec::new(),
+        }
+    }
+}
+
+/// Prescribed position, velocity and acceleration of one coordinate of a motion port at `t`:
+/// the position input's own polynomial if derivatives were given, otherwise the position
+/// advanced with the velocity input (integrated exactly).
+fn prescribed(pos: &InputSignal, vel: &InputSignal, t: f64) -> (f64, f64, f64) {
+    if pos.interpolated {
+        (pos.at(t), pos.rate_at(t), pos.accel())
+    } else {
+        let tau = t - pos.t_ref;
+        let [d1, d2] = vel.derivatives;
+        (
+            pos.value + tau * (vel.value + tau * (0.5 * d1 + tau * d2 / 6.0)),
+            vel.value + tau * (d1 + 0.5 * tau * d2),
+            d1 + tau * d2,
+        )
+    }
 }
 
 impl Beam2d {
@@ -135,6 +191,24 @@ impl Beam2d {
                 constrained[base + c] = true;
             }
         }
+        let mut motion_nodes = Vec::with_capacity(scene.motions.len());
+        for (i, m) in scene.motions.iter().enumerate() {
+            let pos = m.at * n_el as f64;
+            let node = pos.round();
+            if (pos - node).abs() > 1e-9 * n_el as f64 {
+                return Err(format!(
+                    "motions[{i}].at = {}: a motion port must fall on a node; with {MESH_N_ELEMENTS} = {n_el} the nodes are at multiples of 1/{n_el}",
+                    m.at
+                ));
+            }
+            let base = node as usize * NODE_COORDS;
+            if constrained[base] || constrained[base + 1] {
+                return Err(format!("motions[{i}]: the node is already supported"));
+            }
+            constrained[base] = true;
+            constrained[base + 1] = true;
+            motion_nodes.push(node as usize);
+        }
         let dofs = DofMap::new(&constrained);
         if dofs.n_free() == 0 {
             return Err("the supports fix every coordinate: nothing left to simulate".into());
@@ -162,12 +236,28 @@ impl Beam2d {
             .iter()
             .map(|&i| if i % 4 < 2 { length } else { 1.0 })
             .collect();
-        let loads: Vec<PointMap> = scene
+        let load_maps: Vec<PointMap> = scene
             .loads
             .iter()
             .map(|l| PointMap::new(l.at, n_el))
             .collect();
-        let load_values = scene.loads.iter().map(|l| [l.fx, l.fy]).collect();
+        let loads = scene
+            .loads
+            .iter()
+            .map(|l| [InputSignal::constant(l.fx), InputSignal::constant(l.fy)])
+            .collect();
+        // Motion ports start where the node is in the reference configuration, at rest.
+        let motions = motion_nodes
+            .iter()
+            .map(|&k| {
+                [
+                    InputSignal::constant(q0[k * NODE_COORDS]),
+                    InputSignal::constant(q0[k * NODE_COORDS + 1]),
+                    InputSignal::constant(0.0),
+                    InputSignal::constant(0.0),
+                ]
+            })
+            .collect();
         let probes = scene
             .probes
             .iter()
@@ -181,15 +271,24 @@ impl Beam2d {
             asm,
             mass_vals,
             gravity_full,
+            t: 0.0,
             q: q0.clone(),
             v: vec![0.0; n_full],
+            acc: vec![0.0; n_full],
             qw: q0.clone(),
             qw2: q0.clone(),
             aw: vec![0.0; n_full],
             fw: vec![0.0; n_full],
+            interface: Interface {
+                h: p.real(SOLVER_MAX_STEP),
+                ..Interface::default()
+            },
+            hold_ports: false,
             q0,
+            load_maps,
             loads,
-            load_values,
+            motion_nodes,
+            motions,
             probes,
             scales,
         })
@@ -215,7 +314,209 @@ impl Beam2d {
         &self.q0
     }
 
-    /// An output of the committed state.
+    /// Writes the prescribed motion at time `t` into full position (and, if given, velocity
+    /// and acceleration) vectors; in a static solve (`lambda` < 1) positions are ramped from
+    /// the reference configuration.
+    fn apply_prescribed(
+        &self,
+        t: f64,
+        lambda: f64,
+        mut q: Option<&mut [f64]>,
+        mut v: Option<&mut [f64]>,
+        mut a: Option<&mut [f64]>,
+    ) {
+        for (&node, sig) in self.motion_nodes.iter().zip(&self.motions) {
+            for axis in 0..2 {
+                let i = node * NODE_COORDS + axis;
+                let (mut p, mut pd, pdd) = prescribed(&sig[axis], &sig[axis + 2], t);
+                if self.hold_ports && t == self.t {
+                    (p, pd) = (self.q[i], self.v[i]);
+                }
+                if let Some(q) = q.as_deref_mut() {
+                    q[i] = self.q0[i] + lambda * (p - self.q0[i]);
+                }
+                if let Some(v) = v.as_deref_mut() {
+                    v[i] = pd;
+                }
+                if let Some(a) = a.as_deref_mut() {
+                    a[i] = pdd;
+                }
+            }
+        }
+    }
+
+    /// Elements adjacent to a node.
+    fn elements_at(&self, node: usize) -> impl Iterator<Item = usize> {
+        let n_el = self.elements.len();
+        [node.checked_sub(1), (node < n_el).then_some(node)]
+            .into_iter()
+            .flatten()
+    }
+
+    /// Force the support must apply to the beam at the port node to enforce the motion:
+    /// `(M a + f_int − f_ext)` at its two position coordinates.
+    fn port_reaction(&self, port: usize, q: &[f64], a: &[f64]) -> [f64; 2] {
+        let node = self.motion_nodes[port];
+        let base = node * NODE_COORDS;
+        let mut r = [0.0; 2];
+        let mut fe = ElemVec::zeros();
+        for e in self.elements_at(node) {
+            let qe: ElemVec = self.asm.gather(e, q);
+            let ae: ElemVec = self.asm.gather(e, a);
+            self.elements[e].internal_force(&qe, &self.law, &mut fe);
+            fe += self.mass_elem[e] * ae;
+            let local = if self.asm.element_dofs(e)[0] == base {
+                0
+            } else {
+                4
+            };
+            r[0] += fe[local];
+            r[1] += fe[local + 1];
+        }
+        let mut ext = [0.0; 2];
+        for axis in 0..2 {
+            ext[axis] += self.gravity_full[base + axis];
+        }
+        for (map, sig) in self.load_maps.iter().zip(&self.loads) {
+            for (i, w) in map.weights() {
+                if i == base {
+                    ext[0] += w * sig[0].at(self.t);
+                    ext[1] += w * sig[1].at(self.t);
+                }
+            }
+        }
+        [r[0] - ext[0], r[1] - ext[1]]
+    }
+
+    /// Rows of `K_T + c_m M` at the port node's two position coordinates, at the committed
+    /// state, as `(full column index, [row x, row y])` over the adjacent elements.
+    fn port_rows(&self, port: usize, c_m: f64) -> Vec<(usize, [f64; 2])> {
+        let node = self.motion_nodes[port];
+        let base = node * NODE_COORDS;
+        let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
+        let mut rows: Vec<(usize, [f64; 2])> = Vec::new();
+        for e in self.elements_at(node) {
+            let qe: ElemVec = self.asm.gather(e, &self.q);
+            self.elements[e].internal_force_tangent(&qe, &self.law, &mut fe, &mut ke);
+            ke += c_m * self.mass_elem[e];
+            let dofs = self.asm.element_dofs(e);
+            let local = if dofs[0] == base { 0 } else { 4 };
+            for (j, &col) in dofs.iter().enumerate() {
+                let entry = [ke[(local, j)], ke[(local + 1, j)]];
+                match rows.iter_mut().find(|(c, _)| *c == col) {
+                    Some((_, v)) => {
+                        v[0] += entry[0];
+                        v[1] += entry[1];
+                    }
+                    None => rows.push((col, entry)),
+                }
+            }
+        }
+        rows
+    }
+
+    /// Computes (once per communication point) the interface Jacobian `K_int` of the motion
+    /// ports at the committed state. If `S_ff` cannot be factorized, the frozen-interior
+    /// stiffness `S_cc` is used instead.
+    fn interface_jacobian(&mut self) -> &[f64] {
+        if self.interface.matrix.is_none() {
+            let m = self.compute_interface();
+            self.interface.matrix = Some(m);
+        }
+        self.interface.matrix.as_deref().expect("just computed")
+    }
+
+    fn compute_interface(&mut self) -> Vec<f64> {
+        let np = 2 * self.motion_nodes.len();
+        let c_m = 4.0 / (self.interface.h * self.interface.h);
+        // Rows of S (reaction response to the interior) and of K_T (to the port itself);
+        // both matrices are symmetric, so rows give the columns S_fc, K_fc too.
+        let rows: Vec<Vec<(usize, [f64; 2])>> = (0..self.motion_nodes.len())
+            .map(|p| self.port_rows(p, c_m))
+            .collect();
+        let stiff: Vec<Vec<(usize, [f64; 2])>> = (0..self.motion_nodes.len())
+            .map(|p| self.port_rows(p, 0.0))
+            .collect();
+        let coord = |j: usize| self.motion_nodes[j / 2] * NODE_COORDS + j % 2;
+        let entry = |i: usize, col: usize| {
+            stiff[i / 2]
+                .iter()
+                .find(|(c, _)| *c == col)
+                .map_or(0.0, |(_, r)| r[i % 2])
+        };
+        let mut k = vec![0.0; np * np];
+        for i in 0..np {
+            for j in 0..np {
+                k[i * np + j] = entry(i, coord(j));
+            }
+        }
+        // S_ff
+        let mut vals = std::mem::take(&mut self.interface.vals);
+        vals.clear();
+        vals.resize(self.asm.pattern.nnz(), 0.0);
+        let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
+        for e in 0..self.elements.len() {
+            let qe: ElemVec = self.asm.gather(e, &self.q);
+            self.elements[e].internal_force_tangent(&qe, &self.law, &mut fe, &mut ke);
+            self.asm
+                .add_matrix(e, &(ke + c_m * self.mass_elem[e]), 1.0, &mut vals);
+        }
+        let solver = match self.interface.solver.take() {
+            Some(s) => Some(s),
+            None => LinearSolver::new(&self.asm.pattern, SolverKind::Auto).ok(),
+        };
+        if let Some(mut solver) = solver {
+            if solver.factor(&self.asm.pattern, &vals).is_ok() {
+                let n = self.asm.dofs.n_free();
+                let free_vector = |from: &[(usize, [f64; 2])], axis: usize| {
+                    let mut b = vec![0.0; n];
+                    for (col, r) in from {
+                        if let Some(f) = self.asm.dofs.free_index(*col) {
+                            b[f] = r[axis];
+                        }
+                    }
+                    b
+                };
+                let s_rows: Vec<Vec<f64>> =
+                    (0..np).map(|i| free_vector(&rows[i / 2], i % 2)).collect();
+                for j in 0..np {
+                    let mut x = free_vector(&stiff[j / 2], j % 2);
+                    solver.solve_in_place(&mut x);
+                    for i in 0..np {
+                        k[i * np + j] -= s_rows[i].iter().zip(&x).map(|(a, b)| a * b).sum::<f64>();
+                    }
+                }
+            }
+            self.interface.solver = Some(solver);
+        }
+        self.interface.vals = vals;
+        k
+    }
+
+    /// Force on the driver at port `port`, `axis`, with the current inputs: the committed
+    /// reaction, extrapolated with the interface Jacobian if the inputs moved the port.
+    fn port_force(&self, port: usize, axis: usize) -> f64 {
+        let r = self.port_reaction(port, &self.q, &self.acc)[axis];
+        let np = 2 * self.motion_nodes.len();
+        let mut extra = 0.0;
+        for (j, (&node, sig)) in self.motion_nodes.iter().zip(&self.motions).enumerate() {
+            for c in 0..2 {
+                let (p, _, _) = prescribed(&sig[c], &sig[c + 2], self.t);
+                let d = p - self.q[node * NODE_COORDS + c];
+                if d != 0.0 {
+                    let k = self
+                        .interface
+                        .matrix
+                        .as_ref()
+                        .expect("computed when an input moved a port");
+                    extra += k[(2 * port + axis) * np + 2 * j + c] * d;
+                }
+            }
+        }
+        -(r + extra)
+    }
+
+    /// An output of the committed state with the current inputs.
     fn output_of(&self, kind: OutputKind) -> f64 {
         match kind {
             OutputKind::Probe { probe, quantity } => {
@@ -235,6 +536,7 @@ impl Beam2d {
                     self.kinetic_energy() + self.potential_energy() + self.strain_energy()
                 }
             },
+            OutputKind::Reaction { port, axis } => self.port_force(port, axis),
         }
     }
 
@@ -268,16 +570,38 @@ impl Beam2d {
             .sum()
     }
 
-    /// External force (gravity and point loads) times `lambda`, added into a full vector with
-    /// a minus sign (residual convention).
-    fn subtract_external(&self, lambda: f64, full: &mut [f64]) {
+    /// Time derivatives of the energies: `(dT/dt, dV/dt, dU/dt)` [W] of the committed state.
+    fn energy_rates(&self) -> (f64, f64, f64) {
+        let (mut dt, mut du) = (0.0, 0.0);
+        let mut fe = ElemVec::zeros();
+        for e in 0..self.elements.len() {
+            let ve: ElemVec = self.asm.gather(e, &self.v);
+            let ae: ElemVec = self.asm.gather(e, &self.acc);
+            let qe: ElemVec = self.asm.gather(e, &self.q);
+            dt += ve.dot(&(self.mass_elem[e] * ae));
+            self.elements[e].internal_force(&qe, &self.law, &mut fe);
+            du += fe.dot(&ve);
+        }
+        let dv = -self
+            .gravity_full
+            .iter()
+            .zip(&self.v)
+            .map(|(g, v)| g * v)
+            .sum::<f64>();
+        (dt, dv, du)
+    }
+
+    /// External force (gravity and point loads at time `t`) times `lambda`, added into a full
+    /// vector with a minus sign (residual convention).
+    fn subtract_external(&self, t: f64, lambda: f64, full: &mut [f64]) {
         for (f, g) in full.iter_mut().zip(&self.gravity_full) {
             *f -= lambda * g;
         }
-        for (map, val) in self.loads.iter().zip(&self.load_values) {
+        for (map, sig) in self.load_maps.iter().zip(&self.loads) {
+            let (fx, fy) = (sig[0].at(t), sig[1].at(t));
             for (i, w) in map.weights() {
-                full[i] -= lambda * w * val[0];
-                full[i + 1] -= lambda * w * val[1];
+                full[i] -= lambda * w * fx;
+                full[i + 1] -= lambda * w * fy;
             }
         }
     }
@@ -313,42 +637,164 @@ impl Beam2d {
         Ok(())
     }
 
-    /// Full residual vector (including constrained coordinates, where it is minus the
-    /// reaction) of the committed state in static equilibrium terms: `f_int(q) − f_ext`.
-    pub fn static_residual_full(&mut self) -> &[f64] {
-        self.fw.iter_mut().for_each(|x| *x = 0.0);
-        let mut fe = ElemVec::zeros();
-        for e in 0..self.elements.len() {
-            let qe: ElemVec = self.asm.gather(e, &self.q);
-            self.elements[e].internal_force(&qe, &self.law, &mut fe);
-            self.asm.add_vector(e, &fe, 1.0, &mut self.fw);
+    fn input_signal(&mut self, kind: InputKind) -> &mut InputSignal {
+        match kind {
+            InputKind::Load { load, axis } => &mut self.loads[load][axis],
+            InputKind::Motion { port, component } => &mut self.motions[port][component],
         }
-        let mut f = std::mem::take(&mut self.fw);
-        self.subtract_external(1.0, &mut f);
-        self.fw = f;
-        &self.fw
     }
 }
 
 impl Model for Beam2d {
     fn set_input(&mut self, kind: InputKind, value: f64) {
-        match kind {
-            InputKind::Load { load, axis } => self.load_values[load][axis] = value,
+        let t = self.t;
+        self.input_signal(kind).set(value, t);
+        if matches!(kind, InputKind::Motion { .. }) {
+            self.interface_jacobian();
         }
+    }
+
+    fn set_input_derivative(
+        &mut self,
+        kind: InputKind,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String> {
+        if !(1..=2).contains(&order) {
+            return Err(format!("derivative order {order} not supported (1 or 2)"));
+        }
+        self.input_signal(kind).set_derivative(order, value);
+        if matches!(kind, InputKind::Motion { .. }) {
+            self.interface_jacobian();
+        }
+        Ok(())
     }
 
     fn output(&self, kind: OutputKind) -> f64 {
         self.output_of(kind)
     }
 
+    fn output_derivative(&self, kind: OutputKind) -> Option<f64> {
+        Some(match kind {
+            OutputKind::Probe { probe, quantity } => {
+                let p = &self.probes[probe];
+                match quantity {
+                    ProbeQuantity::X => p.eval(&self.v, 0),
+                    ProbeQuantity::Y => p.eval(&self.v, 1),
+                    ProbeQuantity::Vx => p.eval(&self.acc, 0),
+                    ProbeQuantity::Vy => p.eval(&self.acc, 1),
+                }
+            }
+            OutputKind::Energy(k) => {
+                let (dt, dv, du) = self.energy_rates();
+                match k {
+                    EnergyKind::Kinetic => dt,
+                    EnergyKind::Potential => dv,
+                    EnergyKind::Strain => du,
+                    EnergyKind::Total => dt + dv + du,
+                }
+            }
+            // d/dt of the stiffness part of the reaction, K_c: v (inertia rates neglected).
+            OutputKind::Reaction { port, axis } => -self
+                .port_rows(port, 0.0)
+                .iter()
+                .map(|(col, rows)| rows[axis] * self.v[*col])
+                .sum::<f64>(),
+        })
+    }
+
+    fn output_input_derivative(&mut self, output: OutputKind, input: InputKind) -> Option<f64> {
+        Some(match (output, input) {
+            (
+                OutputKind::Reaction { port, axis },
+                InputKind::Motion {
+                    port: p2,
+                    component,
+                },
+            ) => {
+                let sig = &self.motions[p2];
+                // ∂p/∂(input): 1 for the position, τ for the velocity (unless the position
+                // carries its own derivatives).
+                let (coord, dp) = match component {
+                    0 | 1 => (component, 1.0),
+                    _ if sig[component - 2].interpolated => return Some(0.0),
+                    _ => (component - 2, self.t - sig[component - 2].t_ref),
+                };
+                let np = 2 * self.motion_nodes.len();
+                let k = self.interface_jacobian();
+                -dp * k[(2 * port + axis) * np + 2 * p2 + coord]
+            }
+            _ => 0.0,
+        })
+    }
+
+    fn hold_prescribed_motion(&mut self, hold: bool) {
+        self.hold_ports = hold;
+    }
+
+    fn begin_communication_step(&mut self, t0: f64, t1: f64) {
+        if t1 > t0 && (t1 - t0) != self.interface.h {
+            self.interface.h = t1 - t0;
+        }
+    }
+
     fn accept(&mut self, state: &mut DynState) {
+        self.t = state.t;
         self.asm.dofs.expand(&state.q, &mut self.q);
         self.asm.dofs.expand(&state.v, &mut self.v);
+        self.asm.dofs.expand(&state.acc, &mut self.acc);
+        let (mut q, mut v, mut a) = (
+            std::mem::take(&mut self.q),
+            std::mem::take(&mut self.v),
+            std::mem::take(&mut self.acc),
+        );
+        self.apply_prescribed(self.t, 1.0, Some(&mut q), Some(&mut v), Some(&mut a));
+        (self.q, self.v, self.acc) = (q, v, a);
+        self.interface.matrix = None;
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
         self.asm.dofs.restrict(&self.q, q);
         self.asm.dofs.restrict(&self.v, v);
+    }
+
+    fn save(&self, w: &mut StateWriter) -> Result<(), String> {
+        w.f64(self.t);
+        w.f64s(&self.q);
+        w.f64s(&self.v);
+        w.f64s(&self.acc);
+        for sig in self
+            .loads
+            .iter()
+            .flatten()
+            .chain(self.motions.iter().flatten())
+        {
+            sig.save(w);
+        }
+        w.f64(self.interface.h);
+        Ok(())
+    }
+
+    fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
+        let e = |e: crate::snapshot::SnapshotError| e.to_string();
+        self.t = r.f64().map_err(e)?;
+        r.f64s_into(&mut self.q).map_err(e)?;
+        r.f64s_into(&mut self.v).map_err(e)?;
+        r.f64s_into(&mut self.acc).map_err(e)?;
+        for sig in self
+            .loads
+            .iter_mut()
+            .flatten()
+            .chain(self.motions.iter_mut().flatten())
+        {
+            *sig = InputSignal::restore(r).map_err(e)?;
+        }
+        self.interface.h = r.f64().map_err(e)?;
+        self.interface.matrix = None;
+        if !self.motion_nodes.is_empty() {
+            self.interface_jacobian();
+        }
+        Ok(())
     }
 }
 
@@ -367,7 +813,7 @@ impl MechanicalSystem for Beam2d {
 
     fn residual(
         &mut self,
-        _t: f64,
+        t: f64,
         q: &[f64],
         _v: &[f64],
         a: &[f64],
@@ -375,8 +821,10 @@ impl MechanicalSystem for Beam2d {
         r: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        self.asm.dofs.expand(q, &mut self.qw);
-        self.asm.dofs.expand(a, &mut self.aw);
+        let (mut qw, mut aw) = (std::mem::take(&mut self.qw), std::mem::take(&mut self.aw));
+        self.asm.dofs.expand(q, &mut qw);
+        self.asm.dofs.expand(a, &mut aw);
+        self.apply_prescribed(t, load_factor, Some(&mut qw), None, Some(&mut aw));
         let mut f = std::mem::take(&mut self.fw);
         f.iter_mut().for_each(|x| *x = 0.0);
         if let Some((c, vals)) = jac.as_mut() {
@@ -384,7 +832,7 @@ impl MechanicalSystem for Beam2d {
         }
         let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
         for e in 0..self.elements.len() {
-            let qe: ElemVec = self.asm.gather(e, &self.qw);
+            let qe: ElemVec = self.asm.gather(e, &qw);
             match jac.as_mut() {
                 Some((c, vals)) => {
                     self.elements[e].internal_force_tangent(&qe, &self.law, &mut fe, &mut ke);
@@ -396,15 +844,16 @@ impl MechanicalSystem for Beam2d {
             }
             self.asm.add_vector(e, &fe, 1.0, &mut f);
         }
-        self.add_inertia(&self.aw, &mut f);
-        self.subtract_external(load_factor, &mut f);
-        self.fw = f;
+        self.add_inertia(&aw, &mut f);
+        self.subtract_external(t, load_factor, &mut f);
+        (self.qw, self.aw, self.fw) = (qw, aw, f);
         self.finish(r, &jac)
     }
 
     fn midpoint_residual(
         &mut self,
-        _t: f64,
+        t_a: f64,
+        t_b: f64,
         q_a: &[f64],
         q_b: &[f64],
         _v: &[f64],
@@ -412,9 +861,18 @@ impl MechanicalSystem for Beam2d {
         r: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        self.asm.dofs.expand(q_a, &mut self.qw);
-        self.asm.dofs.expand(q_b, &mut self.qw2);
-        self.asm.dofs.expand(a, &mut self.aw);
+        let (mut qa, mut qb, mut aw) = (
+            std::mem::take(&mut self.qw),
+            std::mem::take(&mut self.qw2),
+            std::mem::take(&mut self.aw),
+        );
+        self.asm.dofs.expand(q_a, &mut qa);
+        self.asm.dofs.expand(q_b, &mut qb);
+        self.asm.dofs.expand(a, &mut aw);
+        let t_mid = 0.5 * (t_a + t_b);
+        self.apply_prescribed(t_a, 1.0, Some(&mut qa), None, None);
+        self.apply_prescribed(t_b, 1.0, Some(&mut qb), None, None);
+        self.apply_prescribed(t_mid, 1.0, None, None, Some(&mut aw));
         let mut f = std::mem::take(&mut self.fw);
         f.iter_mut().for_each(|x| *x = 0.0);
         if let Some((c, vals)) = jac.as_mut() {
@@ -422,8 +880,8 @@ impl MechanicalSystem for Beam2d {
         }
         let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
         for e in 0..self.elements.len() {
-            let ea: ElemVec = self.asm.gather(e, &self.qw);
-            let eb: ElemVec = self.asm.gather(e, &self.qw2);
+            let ea: ElemVec = self.asm.gather(e, &qa);
+            let eb: ElemVec = self.asm.gather(e, &qb);
             match jac.as_mut() {
                 Some((c, vals)) => {
                     self.elements[e].average_stress_force(
@@ -439,9 +897,9 @@ impl MechanicalSystem for Beam2d {
             }
             self.asm.add_vector(e, &fe, 1.0, &mut f);
         }
-        self.add_inertia(&self.aw, &mut f);
-        self.subtract_external(1.0, &mut f);
-        self.fw = f;
+        self.add_inertia(&aw, &mut f);
+        self.subtract_external(t_mid, 1.0, &mut f);
+        (self.qw, self.qw2, self.aw, self.fw) = (qa, qb, aw, f);
         self.finish(r, &jac)
     }
 }

@@ -2,6 +2,7 @@
 
 pub mod beam2d;
 mod factory;
+pub mod inputs;
 mod system;
 
 pub use factory::build_model;

@@ -1,7 +1,10 @@
 //! The interface between models and solvers: residual and iteration matrix on the free
 //! coordinates.
 
+use crate::integrators::DynState;
 use crate::linalg::CscPattern;
+use crate::snapshot::{StateReader, StateWriter};
+use crate::variables::{InputKind, OutputKind};
 
 /// Coefficients of the iteration matrix `J = mass·∂r/∂a + damping·∂r/∂v + stiffness·∂r/∂q`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,13 +52,15 @@ pub trait MechanicalSystem {
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError>;
 
-    /// Residual of the energy-conserving midpoint rule: `M a + Q_alg(q_a, q_b) − f_ext(t)`,
-    /// with the average-stress internal force between `q_a` and `q_b` and a damping force at
-    /// `v`. The iteration matrix is `mass·M + damping·C + stiffness·∂Q_alg/∂q_b`.
+    /// Residual of the energy-conserving midpoint rule over a step from `t_a` to `t_b`:
+    /// `M a + Q_alg(q_a, q_b) − f_ext(t_mid)`, with the average-stress internal force between
+    /// `q_a` (at `t_a`) and `q_b` (at `t_b`) and a damping force at the midpoint velocity `v`.
+    /// The iteration matrix is `mass·M + damping·C + stiffness·∂Q_alg/∂q_b`.
     #[allow(clippy::too_many_arguments)]
     fn midpoint_residual(
         &mut self,
-        t: f64,
+        t_a: f64,
+        t_b: f64,
         q_a: &[f64],
         q_b: &[f64],
         v: &[f64],
@@ -68,23 +73,63 @@ pub trait MechanicalSystem {
 /// A model as the simulation driver and the FMU see it: a mechanical system with inputs,
 /// outputs and a committed state.
 pub trait Model: MechanicalSystem + Send {
-    /// Sets an input value (held until the next call; see
-    /// [`Model::begin_communication_step`]).
-    fn set_input(&mut self, kind: crate::variables::InputKind, value: f64);
+    /// Sets an input value at the model's current (committed) time; clears its derivatives.
+    fn set_input(&mut self, kind: InputKind, value: f64);
 
-    /// An output of the committed state.
-    fn output(&self, kind: crate::variables::OutputKind) -> f64;
+    /// Sets the `order`-th (1 or 2) time derivative of an input at the model's current time,
+    /// for polynomial extrapolation inside the next communication step
+    /// (`fmi2SetRealInputDerivatives`). Models that cannot interpolate return an error.
+    fn set_input_derivative(
+        &mut self,
+        _kind: InputKind,
+        _order: usize,
+        _value: f64,
+    ) -> Result<(), String> {
+        Err("this model cannot interpolate inputs".into())
+    }
+
+    /// An output of the committed state with the current inputs.
+    fn output(&self, kind: OutputKind) -> f64;
+
+    /// First time derivative of an output at the committed state, if the model provides it.
+    fn output_derivative(&self, _kind: OutputKind) -> Option<f64> {
+        None
+    }
+
+    /// Partial derivative of an output with respect to an input at the committed state
+    /// (states frozen, FMI 2.0 Co-Simulation directional derivative), if the model provides it
+    /// analytically.
+    fn output_input_derivative(&mut self, _output: OutputKind, _input: InputKind) -> Option<f64> {
+        None
+    }
 
     /// Called with the state after initialization and after every accepted internal step: the
     /// model commits it (outputs refer to it) and updates its history (friction states,
     /// rotation bases). It may re-express the coordinates, e.g. switch a rotation vector to its
     /// complement, by changing `state` consistently.
-    fn accept(&mut self, state: &mut crate::integrators::DynState);
+    fn accept(&mut self, state: &mut DynState);
 
     /// Free coordinates and velocities of the committed state.
     fn free_state(&self, q: &mut [f64], v: &mut [f64]);
 
+    /// While `hold` is set, residuals evaluated at the committed time keep prescribed-motion
+    /// coordinates where the committed state has them, even if their inputs changed since: the
+    /// consistent accelerations at the start of a communication step must not see a jump of a
+    /// prescribed position, which the step then makes instead. Default: nothing to hold.
+    fn hold_prescribed_motion(&mut self, _hold: bool) {}
+
     /// Called before the internal steps of a communication step from `t0` to `t1` [s], after
     /// the inputs of that step were set.
     fn begin_communication_step(&mut self, _t0: f64, _t1: f64) {}
+
+    /// Writes everything the model needs besides the integrator state to continue exactly:
+    /// inputs, committed state, history variables.
+    fn save(&self, _w: &mut StateWriter) -> Result<(), String> {
+        Err("this model cannot save its state".into())
+    }
+
+    /// Restores what [`Model::save`] wrote.
+    fn restore(&mut self, _r: &mut StateReader) -> Result<(), String> {
+        Err("this model cannot restore a state".into())
+    }
 }

@@ -61,6 +61,11 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
             errs.push(format!("{key}: fx and fy must be finite"));
         }
     }
+    for (i, m) in s.motions.iter().enumerate() {
+        let key = format!("motions[{i}]");
+        name_ok(key.clone(), &m.name, &mut errs);
+        at_ok(key.clone(), m.at, &mut errs);
+    }
     for (i, p) in s.probes.iter().enumerate() {
         let key = format!("probes[{i}]");
         name_ok(key.clone(), &p.name, &mut errs);
@@ -178,6 +183,50 @@ pub fn io(s: &SceneFile) -> Vec<IoVariable> {
                 ),
                 InputKind::Load { load: i, axis },
             ));
+        }
+    }
+    let geometry = s.geometry.as_ref();
+    for (port, m) in s.motions.iter().enumerate() {
+        // Start values: the port's position in the reference configuration of the scene.
+        let (x0, y0) = geometry.map_or((0.0, 0.0), |g| {
+            let th = g.angle_deg.to_radians();
+            (
+                g.origin[0] + m.at * g.length * th.cos(),
+                g.origin[1] + m.at * g.length * th.sin(),
+            )
+        });
+        let inputs = [
+            ("x", x0, "m", "Prescribed position x"),
+            ("y", y0, "m", "Prescribed position y"),
+            ("vx", 0.0, "m/s", "Prescribed velocity x"),
+            ("vy", 0.0, "m/s", "Prescribed velocity y"),
+        ];
+        for (component, (suffix, start, unit, what)) in inputs.into_iter().enumerate() {
+            out.push(IoVariable::input(
+                format!("{}.{suffix}", m.name),
+                start,
+                unit,
+                format!(
+                    "{what} of the centre line at {} of the length (motion port; extrapolated inside a step with the velocity input)",
+                    m.at
+                ),
+                InputKind::Motion { port, component },
+            ));
+        }
+        let (nx, ny) = (format!("{}.x", m.name), format!("{}.y", m.name));
+        for (axis, suffix) in ["fx", "fy"].into_iter().enumerate() {
+            out.push(
+                IoVariable::output(
+                    format!("{}.{suffix}", m.name),
+                    "N",
+                    format!(
+                        "Force exerted by the beam on the body driving the motion port, {} component",
+                        ["x", "y"][axis]
+                    ),
+                    OutputKind::Reaction { port, axis },
+                )
+                .depending_on(&[&nx, &ny]),
+            );
         }
     }
     for (i, p) in s.probes.iter().enumerate() {

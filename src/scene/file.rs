@@ -40,6 +40,9 @@ pub struct SceneFile {
     /// Probes: position/velocity outputs at points of the body.
     #[serde(default)]
     pub probes: Vec<ProbeSpec>,
+    /// Motion ports: prescribed position/velocity inputs, reaction-force outputs.
+    #[serde(default)]
+    pub motions: Vec<MotionSpec>,
     /// Further outputs.
     #[serde(default)]
     pub outputs: OutputsSection,
@@ -303,6 +306,17 @@ pub struct LoadSpec {
     /// Start value of the y force [N].
     #[serde(default)]
     pub fy: f64,
+}
+
+/// `[[motions]]`: a node whose position is prescribed by inputs (motion in, force out).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionSpec {
+    /// Variable prefix: inputs `<name>.x`, `<name>.y` [m], `<name>.vx`, `<name>.vy` [m/s];
+    /// outputs `<name>.fx`, `<name>.fy` [N].
+    pub name: String,
+    /// Location as a fraction of the length, in [0, 1]; must fall on a node.
+    pub at: f64,
 }
 
 /// Quantities a probe can output.

@@ -7,6 +7,7 @@ use crate::integrators::{DynState, Integrator};
 use crate::linalg::SolverKind;
 use crate::model::{JacobianCoeffs, Model};
 use crate::scene::params::{ParamValues, names::*};
+use crate::snapshot::{StateReader, StateWriter};
 use crate::variables::{InputKind, OutputKind};
 
 /// Substeps may be halved this many times below `solver.max_step` before a communication step
@@ -132,22 +133,27 @@ impl Simulation {
                 s.increments, s.newton.iterations
             ));
         }
-        self.restart_accelerations()?;
+        self.restart_accelerations(false)?;
         self.model.accept(&mut self.state);
         Ok(report)
     }
 
     /// Solves `M acc = f_ext − f_int(q, v)` at the current state and restarts the algorithmic
     /// acceleration (used at initialization and when inputs jump).
-    fn restart_accelerations(&mut self) -> Result<(), String> {
+    /// With `hold_ports`, prescribed-motion inputs that changed at this communication point
+    /// are not applied at its start: a port that was told to be elsewhere gets there during the
+    /// step instead of jumping (see [`Model::hold_prescribed_motion`]).
+    fn restart_accelerations(&mut self, hold_ports: bool) -> Result<(), String> {
         let n = self.state.q.len();
+        self.model.hold_prescribed_motion(hold_ports);
         self.trial.a.iter_mut().for_each(|x| *x = 0.0);
         let coeffs = JacobianCoeffs {
             mass: 1.0,
             damping: 0.0,
             stiffness: 0.0,
         };
-        self.model
+        let res = self
+            .model
             .residual(
                 self.state.t,
                 &self.state.q,
@@ -157,7 +163,9 @@ impl Simulation {
                 &mut self.ws.r,
                 Some((coeffs, &mut self.ws.jac)),
             )
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| e.to_string());
+        self.model.hold_prescribed_motion(false);
+        let () = res?;
         self.ws
             .solver
             .factor(&self.ws.pattern, &self.ws.jac)
@@ -211,12 +219,148 @@ impl Simulation {
         self.model.as_ref()
     }
 
+    /// Sets an input time derivative (for extrapolation inside the next step).
+    pub fn set_input_derivative(
+        &mut self,
+        kind: InputKind,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String> {
+        self.model.set_input_derivative(kind, order, value)?;
+        self.inputs_changed = true;
+        Ok(())
+    }
+
+    /// First time derivative of an output, if the model provides it.
+    pub fn output_derivative(&self, kind: OutputKind) -> Option<f64> {
+        self.model.output_derivative(kind)
+    }
+
+    /// ∂output/∂input with the state frozen, if the model provides it analytically.
+    pub fn output_input_derivative(&mut self, output: OutputKind, input: InputKind) -> Option<f64> {
+        self.model.output_input_derivative(output, input)
+    }
+
+    /// Response of outputs to input changes `du` through the static equilibrium at the current
+    /// state (linearized): `dq = −K⁻¹ (∂r/∂u) du`, then `dy = (∂y/∂q) dq + (∂y/∂u) du`, with the
+    /// partials of the residual and of the output functions by central differences. Without a
+    /// static equilibrium the state does not depend on the inputs and only `(∂y/∂u) du` remains.
+    /// The simulation is unchanged afterwards.
+    pub fn linearized_output_response(
+        &mut self,
+        du: &[(InputKind, f64, f64)],
+        outputs: &[OutputKind],
+    ) -> Result<Vec<f64>, String> {
+        let mut backup = StateWriter::new();
+        self.save(&mut backup)?;
+        let result = self.linearized_inner(du, outputs);
+        self.restore(&mut StateReader::new(backup.bytes()))?;
+        result
+    }
+
+    fn linearized_inner(
+        &mut self,
+        du: &[(InputKind, f64, f64)],
+        outputs: &[OutputKind],
+    ) -> Result<Vec<f64>, String> {
+        let n = self.state.q.len();
+        // Step along the seed: small against every input it touches.
+        let h = du
+            .iter()
+            .filter(|(_, _, d)| *d != 0.0)
+            .map(|(_, u, d)| 1e-6 * u.abs().max(1.0) / d.abs())
+            .fold(f64::INFINITY, f64::min);
+        if !h.is_finite() {
+            return Ok(vec![0.0; outputs.len()]);
+        }
+        let set_inputs = |model: &mut dyn Model, s: f64| {
+            for &(k, u, d) in du {
+                model.set_input(k, u + s * h * d);
+            }
+        };
+        let mut dq = vec![0.0; n];
+        if self.cfg.static_equilibrium {
+            let zeros = vec![0.0; n];
+            let mut rp = vec![0.0; n];
+            let coeffs = JacobianCoeffs {
+                mass: 0.0,
+                damping: 0.0,
+                stiffness: 1.0,
+            };
+            let t = self.state.t;
+            set_inputs(self.model.as_mut(), 1.0);
+            self.model
+                .residual(t, &self.state.q, &zeros, &zeros, 1.0, &mut rp, None)
+                .map_err(|e| e.to_string())?;
+            set_inputs(self.model.as_mut(), -1.0);
+            self.model
+                .residual(
+                    t,
+                    &self.state.q,
+                    &zeros,
+                    &zeros,
+                    1.0,
+                    &mut self.ws.r,
+                    Some((coeffs, &mut self.ws.jac)),
+                )
+                .map_err(|e| e.to_string())?;
+            self.ws
+                .solver
+                .factor(&self.ws.pattern, &self.ws.jac)
+                .map_err(|e| e.to_string())?;
+            for i in 0..n {
+                dq[i] = -(rp[i] - self.ws.r[i]) / (2.0 * h);
+            }
+            self.ws.solver.solve_in_place(&mut dq);
+        }
+        let mut probe = self.state.clone();
+        let base = self.state.q.clone();
+        let mut eval = |sim: &mut Self, s: f64| -> Vec<f64> {
+            for i in 0..n {
+                probe.q[i] = base[i] + s * h * dq[i];
+            }
+            set_inputs(sim.model.as_mut(), s);
+            sim.model.accept(&mut probe);
+            outputs.iter().map(|&k| sim.model.output(k)).collect()
+        };
+        let yp = eval(self, 1.0);
+        let ym = eval(self, -1.0);
+        Ok(yp
+            .iter()
+            .zip(&ym)
+            .map(|(a, b)| (a - b) / (2.0 * h))
+            .collect())
+    }
+
+    /// Writes the complete simulation state (integrator state, model state, pending restart).
+    pub fn save(&self, w: &mut StateWriter) -> Result<(), String> {
+        let s = &self.state;
+        w.f64(s.t);
+        for v in [&s.q, &s.v, &s.acc, &s.a] {
+            w.f64s(v);
+        }
+        w.bool(self.inputs_changed);
+        self.model.save(w)
+    }
+
+    /// Restores what [`Simulation::save`] wrote (into a simulation of the same model).
+    pub fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
+        let e = |e: crate::snapshot::SnapshotError| e.to_string();
+        let s = &mut self.state;
+        s.t = r.f64().map_err(e)?;
+        for v in [&mut s.q, &mut s.v, &mut s.acc, &mut s.a] {
+            r.f64s_into(v).map_err(e)?;
+        }
+        self.inputs_changed = r.bool().map_err(e)?;
+        self.model.restore(r)
+    }
+
     /// Advances to `t_end` with substeps of at most `solver.max_step`, halving a substep when
     /// Newton fails. On failure the state stays at the last accepted substep.
     pub fn advance(&mut self, t_end: f64) -> Result<(), AdvanceError> {
         self.model.begin_communication_step(self.state.t, t_end);
         if self.inputs_changed {
-            self.restart_accelerations()
+            self.restart_accelerations(true)
                 .map_err(|message| AdvanceError {
                     reached: self.state.t,
                     message,
@@ -321,6 +465,7 @@ mod tests {
         }
         fn midpoint_residual(
             &mut self,
+            _ta: f64,
             t: f64,
             _qa: &[f64],
             qb: &[f64],

@@ -1,6 +1,4 @@
-//! A safe FMI 2.0 Co-Simulation instance. The C shims in [`crate::fmi2`] check pointers and
-//! forward here; every method enforces the state machine, logs the reason of any non-OK
-//! status through the importer's logger, and returns the fmi2Status.
+//! Instance lifecycle, variable access, stepping and status.
 
 use crate::fmi2::state_machine::{Call, State};
 use crate::logging::{LogFilter, Status, status_category};
@@ -28,6 +26,10 @@ pub enum StatusKind {
     /// fmi2Terminated
     Terminated,
 }
+
+/// Largest number of internal steps one `fmi2DoStep` may need at `solver.max_step`; a longer
+/// communication step is refused instead of running for hours.
+pub const MAX_SUBSTEPS: f64 = 1e7;
 
 /// The scene file inside an FMU's resources.
 pub const SCENE_FILE: &str = "scene.toml";
@@ -75,21 +77,28 @@ pub fn resource_dir_from_uri(uri: &str) -> Result<PathBuf, String> {
 
 /// One FMU instance.
 pub struct Instance {
-    name: String,
-    scene: Scene,
-    vars: VariableTable,
-    values: Vec<Value>,
+    pub(super) name: String,
+    pub(super) guid: String,
+    pub(super) scene: Scene,
+    pub(super) vars: VariableTable,
+    pub(super) values: Vec<Value>,
     logging_on_at_start: bool,
     filter: LogFilter,
     sink: LogSink,
-    state: State,
-    start_time: f64,
-    sim: Option<Simulation>,
+    pub(super) state: State,
+    pub(super) start_time: f64,
+    pub(super) sim: Option<Simulation>,
+    /// Parameter and input values the simulation was built with.
+    pub(super) built_with: Option<Vec<Value>>,
     /// Parameters or inputs changed since the simulation was built (Initialization Mode).
-    dirty: bool,
-    last_successful_time: f64,
-    terminated: bool,
-    last_step_status: Status,
+    pub(super) dirty: bool,
+    /// Input derivatives set before the simulation exists (applied when it is built).
+    pub(super) pending_derivatives: Vec<(u32, usize, f64)>,
+    /// Outputs and time before the last step (fallback output derivatives).
+    pub(super) previous_outputs: Option<(f64, Vec<Value>)>,
+    pub(super) last_successful_time: f64,
+    pub(super) terminated: bool,
+    pub(super) last_step_status: Status,
 }
 
 impl std::fmt::Debug for Instance {
@@ -132,6 +141,7 @@ impl Instance {
             .collect();
         let mut inst = Self {
             name: name.to_string(),
+            guid: scene_guid(&scene),
             scene,
             vars,
             values,
@@ -141,7 +151,10 @@ impl Instance {
             state: State::Instantiated,
             start_time: 0.0,
             sim: None,
+            built_with: None,
             dirty: true,
+            pending_derivatives: Vec::new(),
+            previous_outputs: None,
             last_successful_time: 0.0,
             terminated: false,
             last_step_status: Status::Ok,
@@ -258,10 +271,10 @@ impl Instance {
         Status::Ok
     }
 
-    /// Current parameter values.
-    fn param_values(&self) -> ParamValues {
+    /// Parameter values taken from a value vector.
+    pub(super) fn param_values_of(&self, values: &[Value]) -> ParamValues {
         let mut params = ParamValues::defaults(&self.scene.params);
-        for (v, val) in self.vars.vars().iter().zip(&self.values) {
+        for (v, val) in self.vars.vars().iter().zip(values) {
             if let Role::Parameter(name) = v.role {
                 params.set(name, *val);
             }
@@ -269,29 +282,69 @@ impl Instance {
         params
     }
 
-    /// Builds the model from the current parameters and inputs, solves the static equilibrium
-    /// if asked, and refreshes the outputs.
-    fn build(&mut self) -> Result<(), String> {
-        let params = self.param_values();
+    /// Current parameter values.
+    pub(super) fn param_values(&self) -> ParamValues {
+        self.param_values_of(&self.values)
+    }
+
+    /// A simulation built from the parameters and inputs in `values`. With `initialize`, the
+    /// static equilibrium (if asked) and consistent accelerations are solved; without, the
+    /// caller restores a saved state into it.
+    pub(super) fn new_simulation(
+        &mut self,
+        values: &[Value],
+        initialize: bool,
+    ) -> Result<Simulation, String> {
+        let params = self.param_values_of(values);
         let mut model = build_model(&self.scene, &params)?;
-        for (v, val) in self.vars.vars().iter().zip(&self.values) {
+        for (v, val) in self.vars.vars().iter().zip(values) {
             if let (Role::Input(kind), Value::Real(x)) = (v.role, val) {
                 model.set_input(kind, *x);
             }
         }
         let mut sim = Simulation::new(model, SolverConfig::from_params(&params), self.start_time)?;
-        if let Some(report) = sim.initialize()? {
-            self.info(report);
+        if initialize {
+            for &(vr, order, value) in &self.pending_derivatives {
+                if let Role::Input(kind) = self.vars.vars()[vr as usize].role {
+                    sim.set_input_derivative(kind, order, value)?;
+                }
+            }
+            if let Some(report) = sim.initialize()? {
+                self.info(report);
+            }
         }
+        Ok(sim)
+    }
+
+    /// Parameter and input values (the part of `values` a simulation is built from).
+    pub(super) fn build_inputs(&self) -> Vec<Value> {
+        self.vars
+            .vars()
+            .iter()
+            .zip(&self.values)
+            .map(|(v, val)| match v.causality {
+                Causality::Output => Value::Real(0.0),
+                _ => *val,
+            })
+            .collect()
+    }
+
+    /// Builds the model from the current parameters and inputs, solves the static equilibrium
+    /// if asked, and refreshes the outputs.
+    fn build(&mut self) -> Result<(), String> {
+        let values = self.build_inputs();
+        let sim = self.new_simulation(&values, true)?;
         self.sim = Some(sim);
+        self.built_with = Some(values);
         self.dirty = false;
         self.refresh_outputs();
         Ok(())
     }
 
-    fn ensure_built(&mut self) -> Result<(), Status> {
+    pub(super) fn ensure_built(&mut self) -> Result<(), Status> {
         if self.sim.is_none() || self.dirty {
             self.sim = None;
+            self.built_with = None;
             if let Err(e) = self.build() {
                 return Err(self.error(format!("initialization failed: {e}")));
             }
@@ -299,7 +352,20 @@ impl Instance {
         Ok(())
     }
 
-    fn refresh_outputs(&mut self) {
+    /// Recomputes the outputs with direct feedthrough from input `vr` (after it was set).
+    fn refresh_feedthrough(&mut self, vr: u32) {
+        if let Some(sim) = &self.sim {
+            for (v, val) in self.vars.vars().iter().zip(self.values.iter_mut()) {
+                if let Role::Output(kind) = v.role {
+                    if v.depends_on.contains(&vr) {
+                        *val = Value::Real(sim.output(kind));
+                    }
+                }
+            }
+        }
+    }
+
+    pub(super) fn refresh_outputs(&mut self) {
         if let Some(sim) = &self.sim {
             for (v, val) in self.vars.vars().iter().zip(self.values.iter_mut()) {
                 if let Role::Output(kind) = v.role {
@@ -347,7 +413,10 @@ impl Instance {
         self.state = State::Instantiated;
         self.start_time = 0.0;
         self.sim = None;
+        self.built_with = None;
         self.dirty = true;
+        self.pending_derivatives.clear();
+        self.previous_outputs = None;
         self.last_successful_time = 0.0;
         self.terminated = false;
         self.last_step_status = Status::Ok;
@@ -445,9 +514,16 @@ impl Instance {
             }
             let old = self.values[vr as usize];
             self.values[vr as usize] = val;
+            if v.causality == Causality::Input {
+                // a new value clears the derivatives set for the old one
+                self.pending_derivatives.retain(|(r, _, _)| *r != vr);
+            }
             if self.state == State::StepComplete {
                 if let Err(s) = self.apply_running(&v, val, old) {
                     return s;
+                }
+                if v.causality == Causality::Input {
+                    self.refresh_feedthrough(vr);
                 }
             } else {
                 self.dirty = true;
@@ -516,6 +592,23 @@ impl Instance {
             );
             return self.error(msg);
         }
+        let max_step = sim.config().max_step;
+        if h / max_step > MAX_SUBSTEPS {
+            let msg = format!(
+                "fmi2DoStep: a communication step of {h} s needs more than {MAX_SUBSTEPS:e} internal steps of solver.max_step = {max_step} s; use shorter communication steps or a larger solver.max_step"
+            );
+            return self.error(msg);
+        }
+        match self.previous_outputs.as_mut() {
+            Some((tp, vals)) => {
+                *tp = now;
+                vals.copy_from_slice(&self.values);
+            }
+            None => self.previous_outputs = Some((now, self.values.clone())),
+        }
+        let Some(sim) = self.sim.as_mut() else {
+            return Status::Error;
+        };
         let result = sim.advance(t + h);
         self.refresh_outputs();
         match result {
@@ -628,6 +721,11 @@ impl Instance {
                 )),
             },
         }
+    }
+
+    /// The capability flags of this FMU.
+    pub fn capabilities(&self) -> crate::model_description::Capabilities {
+        crate::model_description::capabilities(self.scene.kind)
     }
 
     /// A capability this FMU does not have (yet): error with a clear message.
