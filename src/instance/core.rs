@@ -6,8 +6,7 @@ use crate::model::build_model;
 use crate::model_description::scene_guid;
 use crate::scene::params::ParamVariability;
 use crate::scene::{ParamValues, Scene};
-use crate::solver::newton::NewtonSettings;
-use crate::solver::simulation::{Simulation, SolverConfig};
+use crate::solver::simulation::{MAX_SUBSTEPS, Simulation, SolverConfig};
 use crate::variables::{Causality, Role, Value, VarType, Variability, Variable, VariableTable};
 use std::path::{Path, PathBuf};
 
@@ -26,10 +25,6 @@ pub enum StatusKind {
     /// fmi2Terminated
     Terminated,
 }
-
-/// Largest number of internal steps one `fmi2DoStep` may need at `solver.max_step`; a longer
-/// communication step is refused instead of running for hours.
-pub const MAX_SUBSTEPS: f64 = 1e7;
 
 /// The scene file inside an FMU's resources.
 pub const SCENE_FILE: &str = "scene.toml";
@@ -549,13 +544,7 @@ impl Instance {
                 }
                 let cfg = SolverConfig::from_params(&params);
                 if let Some(sim) = self.sim.as_mut() {
-                    sim.set_tunables(
-                        cfg.max_step,
-                        NewtonSettings {
-                            tolerance: cfg.newton.tolerance,
-                            max_iterations: cfg.newton.max_iterations,
-                        },
-                    );
+                    sim.set_tunables(&cfg);
                 }
                 debug_assert!(
                     self.scene

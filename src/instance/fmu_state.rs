@@ -12,7 +12,6 @@ use crate::fmi2::state_machine::{Call, State};
 use crate::guid::fnv1a_64;
 use crate::logging::Status;
 use crate::snapshot::{StateReader, StateWriter};
-use crate::solver::newton::NewtonSettings;
 use crate::solver::simulation::SolverConfig;
 use crate::variables::{Value, VarType};
 
@@ -141,7 +140,7 @@ impl Instance {
             }
             None => p.bool(false),
         }
-        match (&self.sim, &self.built_with) {
+        match (self.sim.as_mut(), &self.built_with) {
             (Some(sim), Some(built)) => {
                 p.bool(true);
                 write_values(&mut p, built);
@@ -319,13 +318,7 @@ impl Instance {
         if self.scene.validate_params(&params).is_ok() {
             let cfg = SolverConfig::from_params(&params);
             if let Some(sim) = self.sim.as_mut() {
-                sim.set_tunables(
-                    cfg.max_step,
-                    NewtonSettings {
-                        tolerance: cfg.newton.tolerance,
-                        max_iterations: cfg.newton.max_iterations,
-                    },
-                );
+                sim.set_tunables(&cfg);
             }
         }
         Ok(())

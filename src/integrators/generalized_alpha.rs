@@ -76,14 +76,32 @@ impl GeneralizedAlpha {
                 v[i] = s0.v[i] + h * ((1.0 - gamma) * s0.a[i] + gamma * a[i]);
             }
         };
-        let res = newton::solve(ws, &mut acc, settings, coeffs.stiffness, |x, r, jac| {
-            update(x, q, v, a);
-            sys.residual(t1, q, v, x, 1.0, r, jac.map(|j| (coeffs, j)))
-        });
+        let res = newton::solve(
+            ws,
+            &mut acc,
+            settings,
+            coeffs.stiffness,
+            coeffs,
+            |x, r, jac| {
+                update(x, q, v, a);
+                sys.residual(t1, q, v, x, 1.0, r, jac.map(|j| (coeffs, j)))
+            },
+        );
         update(&acc, q, v, a);
         s1.acc = acc;
         s1.t = t1;
         res
+    }
+}
+
+impl GeneralizedAlpha {
+    /// Local displacement error estimate of a step, `h² (β − 1/6)(acc₁ − acc₀)`
+    /// (Zienkiewicz & Xie 1991, for the Newmark family).
+    pub fn error_estimate(&self, s0: &DynState, s1: &DynState, h: f64, out: &mut [f64]) {
+        let c = h * h * (self.beta - 1.0 / 6.0);
+        for i in 0..out.len() {
+            out[i] = c * (s1.acc[i] - s0.acc[i]);
+        }
     }
 }
 

@@ -37,10 +37,17 @@ impl Midpoint {
             }
         };
         // v holds the midpoint velocity during the iteration (for damping forces).
-        let res = newton::solve(ws, &mut acc, settings, coeffs.stiffness, |x, r, jac| {
-            update(x, q, v);
-            sys.midpoint_residual(s0.t, s0.t + h, &s0.q, q, v, x, r, jac.map(|j| (coeffs, j)))
-        });
+        let res = newton::solve(
+            ws,
+            &mut acc,
+            settings,
+            coeffs.stiffness,
+            coeffs,
+            |x, r, jac| {
+                update(x, q, v);
+                sys.midpoint_residual(s0.t, s0.t + h, &s0.q, q, v, x, r, jac.map(|j| (coeffs, j)))
+            },
+        );
         for i in 0..acc.len() {
             s1.q[i] = s0.q[i] + h * s0.v[i] + 0.5 * h * h * acc[i];
             s1.v[i] = s0.v[i] + h * acc[i];

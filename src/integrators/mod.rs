@@ -1,11 +1,13 @@
 //! Time integrators on a model's free coordinates. Each advances a [`DynState`] by one internal
-//! step with Newton's method and leaves the input state untouched on failure.
+//! step (implicit schemes with Newton's method) and leaves the input state untouched on failure.
 
+mod central_difference;
 mod generalized_alpha;
 mod midpoint;
 mod scheme;
 mod state;
 
+pub use central_difference::CentralDifference;
 pub use generalized_alpha::GeneralizedAlpha;
 pub use midpoint::Midpoint;
 pub use scheme::Integrator;

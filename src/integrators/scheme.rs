@@ -1,16 +1,18 @@
 //! The integrator chosen by `solver.integrator`.
 
-use super::{DynState, GeneralizedAlpha, Midpoint};
+use super::{CentralDifference, DynState, GeneralizedAlpha, Midpoint};
 use crate::model::MechanicalSystem;
 use crate::solver::newton::{NewtonError, NewtonSettings, NewtonStats, Workspace};
 
-/// An implicit time integrator.
+/// A time integrator.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Integrator {
     /// Generalized-α (Newmark average acceleration when ρ∞ = 1).
     GeneralizedAlpha(GeneralizedAlpha),
     /// Energy-conserving midpoint rule with average stresses.
     Midpoint(Midpoint),
+    /// Explicit central differences.
+    CentralDifference(CentralDifference),
 }
 
 impl Integrator {
@@ -19,16 +21,24 @@ impl Integrator {
         match code {
             1 => Integrator::GeneralizedAlpha(GeneralizedAlpha::from_rho_inf(rho_inf)),
             3 => Integrator::Midpoint(Midpoint),
+            4 => Integrator::CentralDifference(CentralDifference),
             _ => Integrator::GeneralizedAlpha(GeneralizedAlpha::newmark()),
         }
     }
 
+    /// Whether the scheme is explicit (its step is bounded by stability, not accuracy).
+    pub fn is_explicit(&self) -> bool {
+        matches!(self, Integrator::CentralDifference(_))
+    }
+
     /// One internal step of size `h` from `s0` into `s1`.
+    #[allow(clippy::too_many_arguments)]
     pub fn step(
         &self,
         sys: &mut dyn MechanicalSystem,
         ws: &mut Workspace,
         settings: &NewtonSettings,
+        constant_mass: bool,
         s0: &DynState,
         h: f64,
         s1: &mut DynState,
@@ -36,6 +46,24 @@ impl Integrator {
         match self {
             Integrator::GeneralizedAlpha(g) => g.step(sys, ws, settings, s0, h, s1),
             Integrator::Midpoint(m) => m.step(sys, ws, settings, s0, h, s1),
+            Integrator::CentralDifference(c) => c.step(sys, ws, constant_mass, s0, h, s1),
+        }
+    }
+
+    /// Local displacement error estimate of an implicit step (Zienkiewicz & Xie 1991), `None`
+    /// for explicit schemes.
+    pub fn error_estimate(&self, s0: &DynState, s1: &DynState, h: f64, out: &mut [f64]) -> bool {
+        match self {
+            Integrator::GeneralizedAlpha(g) => {
+                g.error_estimate(s0, s1, h, out);
+                true
+            }
+            // the midpoint rule shares the trapezoidal rule's β = 1/4 error constant
+            Integrator::Midpoint(_) => {
+                GeneralizedAlpha::newmark().error_estimate(s0, s1, h, out);
+                true
+            }
+            Integrator::CentralDifference(_) => false,
         }
     }
 }

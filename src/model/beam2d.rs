@@ -728,6 +728,10 @@ impl Model for Beam2d {
         })
     }
 
+    fn constant_mass(&self) -> bool {
+        true
+    }
+
     fn hold_prescribed_motion(&mut self, hold: bool) {
         self.hold_ports = hold;
     }

@@ -112,6 +112,12 @@ pub trait Model: MechanicalSystem + Send {
     /// Free coordinates and velocities of the committed state.
     fn free_state(&self, q: &mut [f64], v: &mut [f64]);
 
+    /// Whether the mass matrix is constant (ANCF elements): its factorization can then be kept
+    /// by explicit schemes.
+    fn constant_mass(&self) -> bool {
+        false
+    }
+
     /// While `hold` is set, residuals evaluated at the committed time keep prescribed-motion
     /// coordinates where the committed state has them, even if their inputs changed since: the
     /// consistent accelerations at the start of a communication step must not see a jump of a

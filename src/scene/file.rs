@@ -197,7 +197,8 @@ pub struct SolverSection {
     /// Solve the static equilibrium during initialization.
     #[serde(default)]
     pub static_equilibrium: bool,
-    /// Time integrator: `"generalized_alpha"` (1) or `"newmark"` (2).
+    /// Time integrator: `"generalized_alpha"` (1), `"newmark"` (2), `"midpoint"` (3) or
+    /// `"central_difference"` (4).
     #[serde(default = "default_integrator")]
     pub integrator: Choice,
     /// Spectral radius at infinite frequency for generalized-alpha, in [0, 1].
@@ -218,6 +219,16 @@ pub struct SolverSection {
     /// `"auto"` (0), `"banded"` (1) or `"sparse_lu"` (2).
     #[serde(default = "default_linear_solver")]
     pub linear_solver: Choice,
+    /// `"full"` (1) or `"modified"` (2) Newton.
+    #[serde(default = "default_newton")]
+    pub newton: Choice,
+    /// Local error tolerance of adaptive substeps (0: fixed substeps).
+    #[serde(default)]
+    pub tolerance: f64,
+}
+
+fn default_newton() -> Choice {
+    Choice::Name("modified".into())
 }
 
 fn default_integrator() -> Choice {
@@ -253,6 +264,8 @@ impl Default for SolverSection {
             max_iterations: default_max_iterations(),
             load_steps: default_load_steps(),
             linear_solver: default_linear_solver(),
+            newton: default_newton(),
+            tolerance: 0.0,
         }
     }
 }

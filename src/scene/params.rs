@@ -48,13 +48,23 @@ pub mod names {
     pub const SOLVER_LOAD_STEPS: &str = "solver.load_steps";
     /// Linear solver (Integer: 0 auto, 1 banded, 2 sparse LU).
     pub const SOLVER_LINEAR: &str = "solver.linear_solver";
+    /// Newton variant (Integer: 1 full, 2 modified).
+    pub const SOLVER_NEWTON: &str = "solver.newton";
+    /// Local error tolerance of adaptive substeps [1] (0: fixed substeps).
+    pub const SOLVER_TOLERANCE: &str = "solver.tolerance";
 }
 
 use names::*;
 
 /// Time integrators (values of `solver.integrator`).
-pub const INTEGRATORS: &[(&str, i32)] =
-    &[("generalized_alpha", 1), ("newmark", 2), ("midpoint", 3)];
+pub const INTEGRATORS: &[(&str, i32)] = &[
+    ("generalized_alpha", 1),
+    ("newmark", 2),
+    ("midpoint", 3),
+    ("central_difference", 4),
+];
+/// Newton variants (values of `solver.newton`).
+pub const NEWTON_VARIANTS: &[(&str, i32)] = &[("full", 1), ("modified", 2)];
 /// Linear solvers (values of `solver.linear_solver`).
 pub const LINEAR_SOLVERS: &[(&str, i32)] = &[("auto", 0), ("banded", 1), ("sparse_lu", 2)];
 
@@ -279,6 +289,25 @@ pub fn solver_params(scene: &SceneFile) -> Result<Vec<ParamDef>, String> {
             Some("s"),
             "Largest internal time step",
             Check::Positive,
+        )
+        .tunable(),
+        ParamDef::new(
+            SOLVER_TOLERANCE,
+            Value::Real(s.tolerance),
+            Some("1"),
+            "Local error tolerance of adaptive internal steps, relative to the body length (0: fixed steps of solver.max_step)",
+            Check::Closed(0.0, 1.0),
+        )
+        .tunable(),
+        ParamDef::new(
+            SOLVER_NEWTON,
+            Value::Integer(resolve_choice(SOLVER_NEWTON, &s.newton, NEWTON_VARIANTS)?),
+            None,
+            &format!(
+                "Newton iteration: {} (modified keeps the factorization while it converges fast)",
+                describe(NEWTON_VARIANTS)
+            ),
+            Check::Choice(NEWTON_VARIANTS),
         )
         .tunable(),
         ParamDef::new(

@@ -1,7 +1,7 @@
 //! The simulation driver: static initialization, consistent initial accelerations, and the
 //! advance over a communication step with internal substeps that are halved when Newton fails.
 
-use super::newton::{NewtonSettings, NewtonStats, Workspace};
+use super::newton::{NewtonPolicy, NewtonSettings, NewtonStats, Workspace, coeff_key, scaled_max};
 use super::statics;
 use crate::integrators::{DynState, Integrator};
 use crate::linalg::SolverKind;
@@ -13,6 +13,10 @@ use crate::variables::{InputKind, OutputKind};
 /// Substeps may be halved this many times below `solver.max_step` before a communication step
 /// is given up.
 pub const MAX_HALVINGS: u32 = 30;
+
+/// Largest number of internal steps one communication step may need; a longer one is refused
+/// instead of running for hours.
+pub const MAX_SUBSTEPS: f64 = 1e7;
 
 /// Solver settings from the `solver.*` parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,6 +33,9 @@ pub struct SolverConfig {
     pub load_steps: usize,
     /// Factorization.
     pub linear: SolverKind,
+    /// Local error tolerance of adaptive substeps, relative to the coordinate scales (0: fixed
+    /// substeps of `max_step`).
+    pub tolerance: f64,
 }
 
 impl SolverConfig {
@@ -40,7 +47,12 @@ impl SolverConfig {
             newton: NewtonSettings {
                 tolerance: p.real(SOLVER_NEWTON_TOL),
                 max_iterations: p.integer(SOLVER_MAX_ITER) as usize,
+                policy: match p.integer(SOLVER_NEWTON) {
+                    1 => NewtonPolicy::Full,
+                    _ => NewtonPolicy::Modified,
+                },
             },
+            tolerance: p.real(SOLVER_TOLERANCE),
             static_equilibrium: p.boolean(SOLVER_STATIC),
             load_steps: p.integer(SOLVER_LOAD_STEPS) as usize,
             linear: match p.integer(SOLVER_LINEAR) {
@@ -81,6 +93,10 @@ pub struct Simulation {
     trial: DynState,
     stats: RunStats,
     inputs_changed: bool,
+    /// Next substep proposed by the step-size controller [s].
+    h_next: f64,
+    /// Error estimate buffer.
+    err: Vec<f64>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -110,6 +126,8 @@ impl Simulation {
             trial,
             stats: RunStats::default(),
             inputs_changed: true,
+            h_next: cfg.max_step,
+            err: vec![0.0; n],
         })
     }
 
@@ -166,10 +184,14 @@ impl Simulation {
             .map_err(|e| e.to_string());
         self.model.hold_prescribed_motion(false);
         let () = res?;
+        self.ws.invalidate();
         self.ws
             .solver
             .factor(&self.ws.pattern, &self.ws.jac)
             .map_err(|e| format!("mass matrix: {e}"))?;
+        if self.model.constant_mass() {
+            self.ws.mark_factored(coeff_key(&coeffs));
+        }
         for i in 0..n {
             self.state.acc[i] = -self.ws.r[i];
         }
@@ -209,9 +231,11 @@ impl Simulation {
     }
 
     /// Changes the tunable settings (step size, Newton settings).
-    pub fn set_tunables(&mut self, max_step: f64, newton: NewtonSettings) {
-        self.cfg.max_step = max_step;
-        self.cfg.newton = newton;
+    pub fn set_tunables(&mut self, cfg: &SolverConfig) {
+        self.cfg.max_step = cfg.max_step;
+        self.cfg.newton = cfg.newton;
+        self.cfg.tolerance = cfg.tolerance;
+        self.h_next = self.h_next.min(cfg.max_step);
     }
 
     /// The model.
@@ -332,14 +356,18 @@ impl Simulation {
             .collect())
     }
 
-    /// Writes the complete simulation state (integrator state, model state, pending restart).
-    pub fn save(&self, w: &mut StateWriter) -> Result<(), String> {
+    /// Writes the complete simulation state (integrator state, step-size controller, model
+    /// state, pending restart). The kept factorization of modified Newton is dropped, so that
+    /// the run continues from here exactly as a run restored from this state will.
+    pub fn save(&mut self, w: &mut StateWriter) -> Result<(), String> {
+        self.ws.invalidate();
         let s = &self.state;
         w.f64(s.t);
         for v in [&s.q, &s.v, &s.acc, &s.a] {
             w.f64s(v);
         }
         w.bool(self.inputs_changed);
+        w.f64(self.h_next);
         self.model.save(w)
     }
 
@@ -352,67 +380,208 @@ impl Simulation {
             r.f64s_into(v).map_err(e)?;
         }
         self.inputs_changed = r.bool().map_err(e)?;
+        self.h_next = r.f64().map_err(e)?;
+        self.ws.invalidate();
         self.model.restore(r)
     }
 
-    /// Advances to `t_end` with substeps of at most `solver.max_step`, halving a substep when
-    /// Newton fails. On failure the state stays at the last accepted substep.
+    /// Largest stable step of the explicit scheme, `0.8 · 2/ω_max`, with the highest
+    /// eigenfrequency of `K_T v = ω² M v` at the current state from 60 power iterations on
+    /// `M⁻¹ K_T` (the free–free seed-000 element's through-height mode dominates: reference
+    /// F.2).
+    fn explicit_step_limit(&mut self) -> Result<f64, String> {
+        let n = self.state.q.len();
+        let zeros = vec![0.0; n];
+        let stiff = JacobianCoeffs {
+            mass: 0.0,
+            damping: 0.0,
+            stiffness: 1.0,
+        };
+        let t = self.state.t;
+        self.model
+            .residual(
+                t,
+                &self.state.q,
+                &self.state.v,
+                &zeros,
+                1.0,
+                &mut self.ws.r,
+                Some((stiff, &mut self.ws.jac)),
+            )
+            .map_err(|e| e.to_string())?;
+        let k = self.ws.jac.clone();
+        let mass = JacobianCoeffs {
+            mass: 1.0,
+            damping: 0.0,
+            stiffness: 0.0,
+        };
+        self.model
+            .residual(
+                t,
+                &self.state.q,
+                &self.state.v,
+                &zeros,
+                1.0,
+                &mut self.ws.r,
+                Some((mass, &mut self.ws.jac)),
+            )
+            .map_err(|e| e.to_string())?;
+        self.ws.invalidate();
+        self.ws
+            .solver
+            .factor(&self.ws.pattern, &self.ws.jac)
+            .map_err(|e| e.to_string())?;
+        if self.model.constant_mass() {
+            self.ws.mark_factored(coeff_key(&mass));
+        }
+        // deterministic start vector with all modes present
+        let mut x: Vec<f64> = (0..n)
+            .map(|i| 1.0 + ((i * 7919) % 13) as f64 / 13.0)
+            .collect();
+        let mut y = vec![0.0; n];
+        let mut lambda = 0.0;
+        for _ in 0..60 {
+            self.ws.pattern.mul_vec(&k, &x, &mut y);
+            self.ws.solver.solve_in_place(&mut y);
+            let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let xn = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if norm == 0.0 || !norm.is_finite() {
+                break;
+            }
+            lambda = norm / xn;
+            for i in 0..n {
+                x[i] = y[i] / norm;
+            }
+        }
+        if !(lambda > 0.0) || !lambda.is_finite() {
+            return Err("cannot estimate the highest eigenfrequency for the explicit step".into());
+        }
+        Ok(0.8 * 2.0 / lambda.sqrt())
+    }
+
+    /// Advances to `t_end`. Implicit schemes take substeps of at most `solver.max_step`; with
+    /// `solver.tolerance` > 0 the substep follows a local error estimate (accepted when the
+    /// scaled error is below the tolerance, grown or shrunk by `0.9 (tol/err)^(1/3)`, at most
+    /// ×2). A Newton failure halves the substep. The explicit scheme takes equal substeps below
+    /// its stability limit. On failure the state stays at the last accepted substep.
     pub fn advance(&mut self, t_end: f64) -> Result<(), AdvanceError> {
         self.model.begin_communication_step(self.state.t, t_end);
+        let fail = |reached: f64, message: String| AdvanceError { reached, message };
         if self.inputs_changed {
             self.restart_accelerations(true)
-                .map_err(|message| AdvanceError {
-                    reached: self.state.t,
-                    message,
-                })?;
+                .map_err(|m| fail(self.state.t, m))?;
         }
-        let h_max = self.cfg.max_step;
-        let mut h_limit = h_max;
+        let explicit = self.cfg.integrator.is_explicit();
+        let h_max = if explicit {
+            let limit = self
+                .explicit_step_limit()
+                .map_err(|m| fail(self.state.t, m))?;
+            if (t_end - self.state.t) / limit > MAX_SUBSTEPS {
+                return Err(fail(
+                    self.state.t,
+                    format!(
+                        "the explicit scheme's stable step is {limit:.3e} s: more than 1e7 steps for this communication step; use an implicit integrator"
+                    ),
+                ));
+            }
+            self.cfg.max_step.min(limit)
+        } else {
+            self.cfg.max_step
+        };
+        let adaptive = self.cfg.tolerance > 0.0 && !explicit;
+        let mut h_limit = if adaptive {
+            self.h_next.min(h_max)
+        } else {
+            h_max
+        };
         let h_min = h_max * 0.5f64.powi(MAX_HALVINGS as i32);
         let span = (t_end - self.state.t).abs().max(f64::MIN_POSITIVE);
+        let constant_mass = self.model.constant_mass();
         while t_end - self.state.t > 1e-12 * span.max(t_end.abs()) {
             let remaining = t_end - self.state.t;
             let n_left = (remaining / h_limit - 1e-9).ceil().max(1.0);
-            let h = remaining / n_left;
-            let last = n_left == 1.0;
+            let h = if adaptive && n_left > 1.0 {
+                // keep the proposed step; leave no sliver at the end
+                if remaining < 1.5 * h_limit {
+                    0.5 * remaining
+                } else {
+                    h_limit
+                }
+            } else {
+                remaining / n_left
+            };
+            let last = h >= remaining;
             let res = self.cfg.integrator.step(
                 self.model.as_mut(),
                 &mut self.ws,
                 &self.cfg.newton,
+                constant_mass,
                 &self.state,
                 h,
                 &mut self.trial,
             );
-            match res {
+            let failure = match res {
                 Ok(s) => {
                     self.stats.newton += s;
+                    let mut factor = None;
+                    if adaptive
+                        && self.cfg.integrator.error_estimate(
+                            &self.state,
+                            &self.trial,
+                            h,
+                            &mut self.err,
+                        )
+                    {
+                        let e = scaled_max(&self.err, 1.0, &self.ws.scales) / self.cfg.tolerance;
+                        factor = Some((0.9 * e.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 2.0));
+                        if e > 1.0 && h > h_min {
+                            self.stats.rejected += 1;
+                            h_limit = h * factor.unwrap_or(0.5);
+                            continue;
+                        }
+                    }
                     self.stats.steps += 1;
                     if last {
                         self.trial.t = t_end;
                     }
                     std::mem::swap(&mut self.state, &mut self.trial);
                     self.model.accept(&mut self.state);
-                    // Grow back towards the nominal step after a cut.
-                    if h_limit < h_max {
-                        h_limit = (2.0 * h_limit).min(h_max);
+                    h_limit = match factor {
+                        Some(f) => (h * f).min(h_max),
+                        // grow back towards the nominal step after a cut
+                        None => (2.0 * h_limit).min(h_max),
+                    };
+                    if adaptive && !last {
+                        self.h_next = h_limit;
                     }
+                    None
                 }
-                Err(e) => {
-                    self.stats.rejected += 1;
-                    h_limit = 0.5 * h;
-                    if h_limit < h_min {
-                        return Err(AdvanceError {
-                            reached: self.state.t,
-                            message: format!(
-                                "time step failed at t = {:.9} s with the substep cut to {:.3e} s: {e}",
-                                self.state.t, h
-                            ),
-                        });
-                    }
+                Err(e) => Some(e.to_string()),
+            };
+            if let Some(e) = failure {
+                self.stats.rejected += 1;
+                h_limit = 0.5 * h;
+                if h_limit < h_min {
+                    return Err(fail(
+                        self.state.t,
+                        format!(
+                            "time step failed at t = {:.9} s with the substep cut to {:.3e} s: {e}",
+                            self.state.t, h
+                        ),
+                    ));
                 }
             }
         }
         self.state.t = t_end;
+        if self
+            .state
+            .q
+            .iter()
+            .chain(&self.state.v)
+            .any(|x| !x.is_finite())
+        {
+            return Err(fail(self.state.t, "non-finite state".into()));
+        }
         Ok(())
     }
 }
@@ -507,7 +676,9 @@ mod tests {
             newton: NewtonSettings {
                 tolerance: 1e-12,
                 max_iterations: 10,
+                policy: NewtonPolicy::Full,
             },
+            tolerance: 0.0,
             static_equilibrium: false,
             load_steps: 1,
             linear: SolverKind::Auto,

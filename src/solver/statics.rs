@@ -3,7 +3,9 @@
 //! whose Newton correction exceeds `PATH_JUMP_RATIO` times the predictor is rejected as a jump
 //! to another equilibrium branch (a limit point, bifurcation or spurious mode) and cut.
 
-use super::newton::{self, NewtonError, NewtonSettings, NewtonStats, Workspace, scaled_max};
+use super::newton::{
+    self, NewtonError, NewtonPolicy, NewtonSettings, NewtonStats, Workspace, scaled_max,
+};
 use crate::model::{JacobianCoeffs, MechanicalSystem};
 
 /// Smallest load increment before the static solve gives up, as a fraction of the load.
@@ -53,6 +55,11 @@ pub fn solve(
     let mut lambda = 0.0;
     let mut dl = 1.0 / load_steps.max(1) as f64;
     let mut stats = StaticStats::default();
+    // Path following wants the quadratic convergence of full Newton.
+    let settings = &NewtonSettings {
+        policy: NewtonPolicy::Full,
+        ..*settings
+    };
     let coeffs = JacobianCoeffs {
         mass: 0.0,
         damping: 0.0,
@@ -82,7 +89,7 @@ pub fn solve(
             for i in 0..n {
                 trial[i] = q[i] + predictor[i];
             }
-            let mut s = newton::solve(ws, &mut trial, settings, 1.0, |x, r, jac| {
+            let mut s = newton::solve(ws, &mut trial, settings, 1.0, coeffs, |x, r, jac| {
                 sys.residual(0.0, x, &zeros, &zeros, target, r, jac.map(|j| (coeffs, j)))
             })
             .map_err(|e: NewtonError| e.to_string())?;
