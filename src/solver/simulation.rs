@@ -453,7 +453,7 @@ impl Simulation {
                 x[i] = y[i] / norm;
             }
         }
-        if !(lambda > 0.0) || !lambda.is_finite() {
+        if lambda.is_nan() || lambda <= 0.0 || !lambda.is_finite() {
             return Err("cannot estimate the highest eigenfrequency for the explicit step".into());
         }
         Ok(0.8 * 2.0 / lambda.sqrt())
