@@ -230,6 +230,29 @@ impl Beam2d {
             mass_elem.push(m);
             elements.push(el);
         }
+        // Initial rigid rotation about the first end: v = ω × (r − r₀) for positions, ω × n for
+        // the cross-section gradients.
+        let omega = p
+            .get(INITIAL_ANGULAR_VELOCITY)
+            .map_or(0.0, |_| p.real(INITIAL_ANGULAR_VELOCITY));
+        let mut v0 = vec![0.0; n_full];
+        for k in 0..n_nodes {
+            let b = k * NODE_COORDS;
+            let (dx, dy) = (q0[b] - origin.x, q0[b + 1] - origin.y);
+            v0[b..b + 4].copy_from_slice(&[
+                -omega * dy,
+                omega * dx,
+                -omega * q0[b + 3],
+                omega * q0[b + 2],
+            ]);
+        }
+        for (i, c) in constrained.iter().enumerate() {
+            if *c && v0[i] != 0.0 {
+                return Err(format!(
+                    "{INITIAL_ANGULAR_VELOCITY}: a support at a moving coordinate conflicts with the initial rotation about the first end"
+                ));
+            }
+        }
         let scales = asm
             .dofs
             .free_to_full()
@@ -273,7 +296,7 @@ impl Beam2d {
             gravity_full,
             t: 0.0,
             q: q0.clone(),
-            v: vec![0.0; n_full],
+            v: v0,
             acc: vec![0.0; n_full],
             qw: q0.clone(),
             qw2: q0.clone(),

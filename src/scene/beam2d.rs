@@ -93,7 +93,7 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
         s.mesh.as_ref().ok_or("[mesh] missing")?,
     );
     let real = |v: f64| Value::Real(v);
-    Ok(vec![
+    let mut defs = vec![
         ParamDef::new(
             MATERIAL_E,
             real(m.E),
@@ -164,7 +164,17 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
             "Shear correction factor k_s of Eq. 12",
             Check::Positive,
         ),
-    ])
+    ];
+    if let Some(init) = &s.initial {
+        defs.push(ParamDef::new(
+            INITIAL_ANGULAR_VELOCITY,
+            real(init.angular_velocity),
+            Some("rad/s"),
+            "Initial rigid rotation of the body about its first end, counter-clockwise",
+            Check::Finite,
+        ));
+    }
+    Ok(defs)
 }
 
 /// Inputs (load components) and outputs (probe quantities, energies) of a planar-beam scene.

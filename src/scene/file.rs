@@ -46,6 +46,19 @@ pub struct SceneFile {
     /// Further outputs.
     #[serde(default)]
     pub outputs: OutputsSection,
+    /// Initial motion (omit: the body starts at rest).
+    #[serde(default)]
+    pub initial: Option<InitialSection>,
+}
+
+/// `[initial]`: a rigid initial motion of the whole body.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSection {
+    /// Angular velocity about the body's first end (counter-clockwise) [rad/s]; exposed as the
+    /// parameter `initial.angular_velocity`.
+    #[serde(default)]
+    pub angular_velocity: f64,
 }
 
 /// `[fmu]`
@@ -232,7 +245,7 @@ fn default_newton() -> Choice {
 }
 
 fn default_integrator() -> Choice {
-    Choice::Name("newmark".into())
+    Choice::Name("generalized_alpha".into())
 }
 fn default_rho_inf() -> f64 {
     0.9

@@ -52,6 +52,8 @@ pub mod names {
     pub const SOLVER_NEWTON: &str = "solver.newton";
     /// Local error tolerance of adaptive substeps [1] (0: fixed substeps).
     pub const SOLVER_TOLERANCE: &str = "solver.tolerance";
+    /// Initial angular velocity about the first end [rad/s].
+    pub const INITIAL_ANGULAR_VELOCITY: &str = "initial.angular_velocity";
 }
 
 use names::*;
