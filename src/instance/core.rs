@@ -390,6 +390,12 @@ impl Instance {
             return s;
         }
         self.state = State::Terminated;
+        if let Some(stats) = self.sim.as_ref().map(|s| s.stats()) {
+            self.info(format!(
+                "solver statistics: {} steps, {} rejected, {} Newton iterations, {} factorizations",
+                stats.steps, stats.rejected, stats.newton.iterations, stats.newton.factorizations
+            ));
+        }
         Status::Ok
     }
 
