@@ -96,7 +96,9 @@ impl BeamSection {
     /// Second moments of the section mass per length `E_kk = ∫ X_k² dm` along the section axes
     /// (the Euler tensor, `E = ½ tr(J) I − J`): `[½(Iy + Iz − Jx), ½(Jx + Iz − Iy),
     /// ½(Jx + Iy − Iz)]` [kg m]. The rotational kinetic energy of a section with directors
-    /// `d_k` is `½ Σ E_kk |ḋ_k|²`, which equals `½ ωᵀ J ω`.
+    /// `d_k` is `½ Σ E_kk |ḋ_k|²`, which equals `½ ωᵀ J ω`. A physical section has
+    /// `E_kk ≥ 0` (`J_x = I_y + I_z` for a thin section gives `E_11 = 0`); the element clips
+    /// negative values from rounded data at zero.
     pub fn euler_tensor(&self) -> Vector3<f64> {
         let (jx, iy, iz) = (self.rho_jx, self.rho_iy, self.rho_iz);
         Vector3::new(
@@ -274,7 +276,7 @@ impl Corot3d {
             InertiaPoint {
                 alpha: [0.0; 2],
                 c: [d * (1.0 - xi), d * xi],
-                mu: w * l0 * euler[k],
+                mu: w * l0 * euler[k].max(0.0),
                 mass: false,
             }
         };

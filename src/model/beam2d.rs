@@ -225,6 +225,8 @@ impl Beam2d {
                     ProbeQuantity::Y => p.eval(&self.q, 1),
                     ProbeQuantity::Vx => p.eval(&self.v, 0),
                     ProbeQuantity::Vy => p.eval(&self.v, 1),
+                    // 3D quantities are rejected for planar scenes by `scene::beam2d::check`
+                    _ => f64::NAN,
                 }
             }
             OutputKind::Energy(k) => match k {
@@ -333,7 +335,9 @@ impl Beam2d {
 impl Model for Beam2d {
     fn set_input(&mut self, kind: InputKind, value: f64) {
         match kind {
-            InputKind::Load { load, axis } => self.load_values[load][axis] = value,
+            InputKind::Load { load, axis } if axis < 2 => self.load_values[load][axis] = value,
+            // planar scenes declare no z forces and no moments (see `scene::beam2d::check`)
+            InputKind::Load { .. } | InputKind::Moment { .. } => {}
         }
     }
 
