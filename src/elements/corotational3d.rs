@@ -175,7 +175,7 @@ pub fn reference_frame(
 ) -> Option<Matrix3<f64>> {
     let d = x2 - x1;
     let l = d.norm();
-    if !(l > 0.0) || !l.is_finite() {
+    if !l.is_finite() || l <= 0.0 {
         return None;
     }
     let e1 = d / l;
