@@ -419,30 +419,54 @@ impl Corot3d {
                 ydd += n.r[i] * z[i];
             }
             let force = if p.mass { (ydd - g) * p.mu } else { ydd * p.mu };
-            let mut b = M3x12::zeros();
+            // B_p = [α_1 I, G_1, α_2 I, G_2] with G_i = −R_i c̃_i; rows of Bᵀ F.
+            let gm = [-n.r[0] * skew(&p.c[0]), -n.r[1] * skew(&p.c[1])];
             for i in 0..2 {
-                b.fixed_view_mut::<3, 3>(0, 6 * i)
-                    .copy_from(&(Matrix3::identity() * p.alpha[i]));
-                b.fixed_view_mut::<3, 3>(0, 6 * i + 3)
-                    .copy_from(&(-n.r[i] * skew(&p.c[i])));
-            }
-            *f += b.transpose() * force;
-            if let Some((cm, cd, mc, k)) = mats.as_mut() {
-                let bt = b.transpose();
-                let mut gyro = M3x12::zeros();
-                let mut conf = M3x12::zeros();
-                for i in 0..2 {
-                    let (w, c) = (&v.w[i], &p.c[i]);
-                    let gamma = Matrix3::identity() * w.dot(c) + w * c.transpose()
-                        - 2.0 * c * w.transpose();
-                    gyro.fixed_view_mut::<3, 3>(0, 6 * i + 3)
-                        .copy_from(&(n.r[i] * gamma));
-                    conf.fixed_view_mut::<3, 3>(0, 6 * i + 3)
-                        .copy_from(&(-n.r[i] * skew(&z[i])));
+                let fx = force * p.alpha[i];
+                let mx = gm[i].transpose() * force;
+                for c in 0..3 {
+                    f[6 * i + c] += fx[c];
+                    f[6 * i + 3 + c] += mx[c];
                 }
-                **mc += bt * (b * (*cm * p.mu) + gyro * (*cd * p.mu));
-                **k += bt * conf * p.mu;
+            }
+            if let Some((cm, cd, mc, k)) = mats.as_mut() {
+                let (cm, cd, mu) = (*cm, *cd, p.mu);
+                // Columns of the rotation rates: mass (G_j), gyroscopic (R_j Γ_j, Γ = ∂z/∂Ω)
+                // and configuration (−R_j z̃_j) parts of ∂ÿ/∂(·)_j.
+                let mut w = [Matrix3::zeros(); 2];
+                let mut zc = [Matrix3::zeros(); 2];
+                for j in 0..2 {
+                    let (om, c) = (&v.w[j], &p.c[j]);
+                    let gamma = Matrix3::identity() * om.dot(c) + om * c.transpose()
+                        - 2.0 * c * om.transpose();
+                    w[j] = gm[j] * (cm * mu) + n.r[j] * gamma * (cd * mu);
+                    zc[j] = -n.r[j] * skew(&z[j]) * mu;
+                }
                 for i in 0..2 {
+                    let gt = gm[i].transpose();
+                    for j in 0..2 {
+                        let (ai, aj) = (p.alpha[i], p.alpha[j]);
+                        if ai != 0.0 {
+                            let mut xx = mc.fixed_view_mut::<3, 3>(6 * i, 6 * j);
+                            if aj != 0.0 {
+                                for d in 0..3 {
+                                    xx[(d, d)] += cm * mu * ai * aj;
+                                }
+                            }
+                            let mut xt = mc.fixed_view_mut::<3, 3>(6 * i, 6 * j + 3);
+                            xt += w[j] * ai;
+                            let mut kxt = k.fixed_view_mut::<3, 3>(6 * i, 6 * j + 3);
+                            kxt += zc[j] * ai;
+                        }
+                        if aj != 0.0 {
+                            let mut tx = mc.fixed_view_mut::<3, 3>(6 * i + 3, 6 * j);
+                            tx += gt * (cm * mu * aj);
+                        }
+                        let mut tt = mc.fixed_view_mut::<3, 3>(6 * i + 3, 6 * j + 3);
+                        tt += gt * w[j];
+                        let mut ktt = k.fixed_view_mut::<3, 3>(6 * i + 3, 6 * j + 3);
+                        ktt += gt * zc[j];
+                    }
                     let blk = skew(&p.c[i]) * skew(&(n.r[i].transpose() * force));
                     let mut view = k.fixed_view_mut::<3, 3>(6 * i + 3, 6 * i + 3);
                     view += blk;
