@@ -537,3 +537,173 @@ fn scene_errors_name_the_key() {
             .0;
     assert!(err.contains("probes[0].outputs"), "{err}");
 }
+
+/// The assembled iteration matrix of a whole model against central differences of its
+/// residual, separately for the mass, damping and stiffness parts, at a configuration with
+/// large incremental rotations, velocities and accelerations, with gravity, a follower force
+/// and moment at the tip and a dead force and moment at mid-span (all load tangents, the
+/// chain through T(θ) and the inertia terms).
+#[test]
+fn model_jacobian_matches_finite_differences() {
+    let text = std::fs::read_to_string(scene_path("cantilever3d"))
+        .unwrap()
+        .replace("n_elements = 16", "n_elements = 4")
+        .replace(
+            "name = \"load\"\nat = 1.0",
+            "name = \"load\"\nat = 1.0\nfollower = true\nfx = 30.0\nfy = -50.0\nfz = 20.0\nmx = 3.0\nmy = -4.0\nmz = 5.0\n\n[[loads]]\nname = \"mid\"\nat = 0.5\nfx = -10.0\nfy = 40.0\nfz = 25.0\nmx = -2.0\nmy = 6.0\nmz = 1.0",
+        )
+        + "\n[gravity]\nx = 1.0\ny = -2.0\nz = -9.81\n";
+    // a very soft section too, so that the load and inertia blocks dominate the comparison
+    for (mass, soft) in [(1, false), (2, false), (1, true), (2, true)] {
+        let sc = Scene::from_toml(&text).unwrap();
+        let mut p = ParamValues::defaults(&sc.params);
+        p.set("element.mass", Value::Integer(mass));
+        if soft {
+            use flexfmu::scene::corot3d::names::*;
+            for name in [
+                SECTION_EA,
+                SECTION_GAY,
+                SECTION_GAZ,
+                SECTION_GJ,
+                SECTION_EIY,
+                SECTION_EIZ,
+            ] {
+                p.set(name, Value::Real(p.real(name) * 1e-7));
+            }
+        }
+        let mut m = Corot3dModel::build(&sc.file, &p).unwrap();
+        let n = m.n_free();
+        let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+        m.free_state(&mut q, &mut v);
+        let wave = |i: usize, s: f64| (i as f64 * s).sin();
+        for i in 0..n {
+            // rotations up to ~1.2 rad, positions by a few cm
+            q[i] += if i % 6 >= 3 {
+                1.2 * wave(i, 0.7)
+            } else {
+                0.03 * wave(i, 1.3)
+            };
+            v[i] = 2.0 * wave(i, 0.4);
+        }
+        let a: Vec<f64> = (0..n).map(|i| 5.0 * wave(i, 0.9)).collect();
+        let nnz = m.pattern().nnz();
+        let pattern = m.pattern().clone();
+        let mut r = vec![0.0; n];
+        for (cm, cd, ck) in [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)] {
+            let mut vals = vec![0.0; nnz];
+            let c = JacobianCoeffs {
+                mass: cm,
+                damping: cd,
+                stiffness: ck,
+            };
+            m.residual(0.0, &q, &v, &a, 0.8, &mut r, Some((c, &mut vals)))
+                .unwrap();
+            // r is linear in a and quadratic in v: central differences are exact there, so a
+            // large step avoids round-off against the large internal forces
+            let which = if cm == 1.0 {
+                2
+            } else if cd == 1.0 {
+                1
+            } else {
+                0
+            };
+            let h = if which == 0 { 1e-6 } else { 1e-2 };
+            let mut worst: f64 = 0.0;
+            let mut scale: f64 = 0.0;
+            for j in 0..n {
+                let (mut xp, mut xm) = (
+                    [q.clone(), v.clone(), a.clone()],
+                    [q.clone(), v.clone(), a.clone()],
+                );
+                xp[which][j] += h;
+                xm[which][j] -= h;
+                let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
+                m.residual(0.0, &xp[0], &xp[1], &xp[2], 0.8, &mut rp, None)
+                    .unwrap();
+                m.residual(0.0, &xm[0], &xm[1], &xm[2], 0.8, &mut rm, None)
+                    .unwrap();
+                for i in 0..n {
+                    let fd = (rp[i] - rm[i]) / (2.0 * h);
+                    let an = pattern.position(i, j).map_or(0.0, |k| vals[k]);
+                    worst = worst.max((fd - an).abs());
+                    scale = scale.max(an.abs());
+                }
+            }
+            // round-off of the differences: |r| ε/h
+            let rmax = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let tol = 1e-6 * scale + 1e-14 * rmax / h;
+            eprintln!(
+                "model Jacobian, mass {mass}, soft {soft}, coefficients ({cm}, {cd}, {ck}): largest error {worst:.2e} of {scale:.2e} (tolerance {tol:.1e})"
+            );
+            assert!(worst < tol, "largest error {worst} of {scale}");
+        }
+    }
+}
+
+/// Uniform gravity on the straight cantilever: the three-point lumped gravity forces equal the
+/// consistent load vector of the Hermite beam (nodal forces qL/2, moments ±qL²/12), so the
+/// tip deflection is that of beam theory, `q L⁴/(8EI) + q L²/(2kGA)`, for both inertia
+/// models.
+#[test]
+fn cantilever_under_gravity_matches_beam_theory() {
+    let text = std::fs::read_to_string(scene_path("cantilever3d")).unwrap()
+        + "\n[gravity]\nx = 0.0\ny = 0.0\nz = -9.81\n";
+    let sc = Scene::from_toml(&text).unwrap();
+    let (ei, ga, rho_a, l): (f64, f64, f64, f64) = (1649.34, 2.28368e7, 2.46615, 1.0);
+    let q = rho_a * 9.81;
+    let expect = -(q * l.powi(4) / (8.0 * ei) + q * l * l / (2.0 * ga));
+    for mass in [1, 2] {
+        for n in [2, 16] {
+            let sim = simulation(
+                &sc,
+                &[
+                    ("element.mass", Value::Integer(mass)),
+                    ("mesh.n_elements", Value::Integer(n)),
+                    ("solver.static_equilibrium", Value::Boolean(true)),
+                ],
+            )
+            .unwrap();
+            let z = output(&sc, &sim, "tip.z");
+            assert!(
+                (z - expect).abs() < 2e-5 * expect.abs(),
+                "mass {mass}, {n} elements: {z} vs {expect}"
+            );
+        }
+    }
+}
+
+/// A beam pinned at one end (rotations free) swings in 3D under gravity after a sideways
+/// kick: kinetic + strain + gravity potential energy stays constant (Newmark, no damping), and
+/// the pin holds.
+#[test]
+fn pinned_beam_swings_with_constant_energy() {
+    let text = std::fs::read_to_string(scene_path("right_angle_cantilever"))
+        .unwrap()
+        .replace("kind = \"clamp\"", "kind = \"pin\"")
+        .replace("max_step = 0.05", "max_step = 0.01")
+        + "\n[gravity]\nx = 0.0\ny = 0.0\nz = -9.81\n\n[outputs]\nenergy = true\n";
+    let sc = Scene::from_toml(&text).unwrap();
+    let mut sim = simulation(&sc, &[]).unwrap();
+    let h = 0.05;
+    let mut e0 = f64::NAN;
+    let mut drop: f64 = 0.0;
+    let mut dev: f64 = 0.0;
+    for k in 0..200 {
+        let t = k as f64 * h;
+        input(&sc, &mut sim, "load.fy", if t < 0.5 { 100.0 } else { 0.0 });
+        sim.advance(t + h).unwrap();
+        if t + h > 0.5 + 1e-9 {
+            let e = output(&sc, &sim, "energy.total");
+            if e0.is_nan() {
+                e0 = e;
+            }
+            dev = dev.max((e - e0).abs());
+            drop = drop.max(-output(&sc, &sim, "energy.potential"));
+        }
+    }
+    eprintln!(
+        "pinned 3D swing, 10 s: gravity potential drop {drop:.1} J, largest change of the total energy {dev:.2e} J"
+    );
+    assert!(drop > 100.0, "{drop}");
+    assert!(dev < 1e-3 * drop, "{dev} of {drop}");
+}
