@@ -17,6 +17,8 @@ from fmpy.fmi1 import calloc, free
 
 LEVELS = ["OK", "WARNING", "DISCARD", "ERROR", "FATAL", "PENDING"]
 
+_CALLBACKS = []
+
 
 def static_outputs(fmu, start_values, names):
     """Outputs right after initialization (t = 0) with solver.static_equilibrium = True."""
@@ -49,7 +51,10 @@ class Session:
         cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         addLoggerProxy(byref(cb))
-        self._cb = cb  # keep alive
+        # fmpy's logger proxy keeps the last registered callback in a C global: keep every
+        # callback alive for the whole test session, not just for this Session.
+        _CALLBACKS.append(cb)
+        self._cb = cb
         self.slave.instantiate(callbacks=cb, loggingOn=logging_on)
 
     def errors(self):

@@ -20,6 +20,9 @@ CASES = {
     "cantilever_motion": ({"tip.y": -0.01, "solver.static_equilibrium": True}, "tip.fy"),
     "simply_supported": ({"load.fy": -1000.0, "mesh.n_elements": 16, "solver.static_equilibrium": True}, "mid.y"),
     "pendulum": ({"mesh.n_elements": 4}, "tip.y"),
+    "cantilever3d": ({"load.fz": -50.0}, "tip.z"),
+    "bend45": ({"mesh.n_elements": 8}, "tip.z"),
+    "right_angle_cantilever": ({"load.fz": 50.0}, "tip.z"),
 }
 STEP = 1e-3
 STEPS = 50
@@ -72,8 +75,10 @@ def test_three_importers_agree(fmus, name):
     b = run_libcosim(fmus[name], start, output)
     c = run_ecos(fmus[name], start, output)
     assert a != 0.0 and np.isfinite(a)
+    # Agreement to the Newton tolerance (1e-10 of the body length per step): importers may run the
+    # FMU on threads with other floating-point settings, which moves results at that level.
     for other in (b, c):
-        assert abs(other - a) <= 1e-9 * abs(a), (name, a, b, c)
+        assert abs(other - a) <= 1e-9 * abs(a) + 1e-9, (name, a, b, c)
 
 
 def test_fmutool_check(fmus):

@@ -29,6 +29,7 @@ pub const CATEGORIES: &[(&str, &str)] = &[
         "logNonlinearSystems",
         "Newton iterations and step-size cuts",
     ),
+    ("logCalls", "Every FMI function call with its arguments"),
     ("logStatusWarning", "Messages with status fmi2Warning"),
     ("logStatusDiscard", "Messages with status fmi2Discard"),
     ("logStatusError", "Messages with status fmi2Error"),

@@ -37,6 +37,16 @@ pub fn capabilities(kind: SceneKind) -> Capabilities {
             serialize_state: true,
             directional_derivative: true,
         },
+        // No analytic output rates and no input interpolation yet; state and derivatives are
+        // generic (the model saves its orientations and loads).
+        SceneKind::Corot3d => Capabilities {
+            variable_step: true,
+            interpolate_inputs: false,
+            max_output_derivative_order: 0,
+            get_set_state: true,
+            serialize_state: true,
+            directional_derivative: true,
+        },
     }
 }
 

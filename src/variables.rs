@@ -108,11 +108,19 @@ pub enum EnergyKind {
 /// What an input drives.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum InputKind {
-    /// Component `axis` (0 = x, 1 = y) of point load `load` [N].
+    /// Component `axis` (0 = x, 1 = y, 2 = z) of the force of point load `load` [N].
     Load {
         /// Index into the scene's loads.
         load: usize,
-        /// 0 = x, 1 = y.
+        /// 0 = x, 1 = y, 2 = z.
+        axis: usize,
+    },
+    /// Component `axis` (0 = x, 1 = y, 2 = z) of the moment of point load `load` [N m]
+    /// (3D scenes).
+    Moment {
+        /// Index into the scene's loads.
+        load: usize,
+        /// 0 = x, 1 = y, 2 = z.
         axis: usize,
     },
     /// Prescribed motion of a port: `component` 0, 1 = position x, y [m]; 2, 3 = velocity
@@ -370,6 +378,11 @@ pub fn unit_exponents(unit: &str) -> Option<(i32, i32, i32)> {
         "Pa" => (1, -1, -2),
         "J" => (1, 2, -2),
         "kg/m3" => (1, -3, 0),
+        "N.m" => (1, 2, -2),
+        "N.m2" => (1, 3, -2),
+        "kg/m" => (1, -1, 0),
+        "kg.m" => (1, 1, 0),
+        "rad" => (0, 0, 0),
         _ => return None,
     })
 }

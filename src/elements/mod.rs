@@ -5,5 +5,7 @@
 //! assembly ([`crate::assembly`]) gathers, calls and scatters.
 
 pub mod ancf_shear2d;
+pub mod corotational3d;
 pub mod material;
 pub mod quadrature;
+pub mod rotation;

@@ -184,6 +184,14 @@ impl Instance {
         }
     }
 
+    /// Logs an FMI call in the category `logCalls` (only formatted when that category is on).
+    pub fn trace(&mut self, f: impl FnOnce() -> String) {
+        if self.filter.passes(Status::Ok, "logCalls") {
+            let msg = f();
+            (self.sink)(Status::Ok, "logCalls", &msg);
+        }
+    }
+
     fn info(&mut self, msg: impl AsRef<str>) {
         self.log(Status::Ok, "logEvents", msg.as_ref());
     }
@@ -241,6 +249,7 @@ impl Instance {
         start: f64,
         stop: Option<f64>,
     ) -> Status {
+        self.trace(|| format!("fmi2SetupExperiment({tolerance:?}, {start:?}, {stop:?})"));
         if let Err(s) = self.check(Call::SetupExperiment) {
             return s;
         }
@@ -259,6 +268,7 @@ impl Instance {
 
     /// fmi2EnterInitializationMode.
     pub fn enter_initialization_mode(&mut self) -> Status {
+        self.trace(|| "fmi2EnterInitializationMode()".into());
         if let Err(s) = self.check(Call::EnterInitializationMode) {
             return s;
         }
@@ -373,6 +383,7 @@ impl Instance {
     /// fmi2ExitInitializationMode: parameters are checked, the model built and, with
     /// `solver.static_equilibrium`, brought into static equilibrium; outputs are valid after.
     pub fn exit_initialization_mode(&mut self) -> Status {
+        self.trace(|| "fmi2ExitInitializationMode()".into());
         if let Err(s) = self.check(Call::ExitInitializationMode) {
             return s;
         }
@@ -453,6 +464,7 @@ impl Instance {
         vrs: &[u32],
         out: &mut dyn FnMut(usize, Value),
     ) -> Status {
+        self.trace(|| format!("{}({vrs:?})", call.name()));
         if let Err(s) = self.check(call) {
             return s;
         }
@@ -476,6 +488,7 @@ impl Instance {
 
     /// fmi2SetReal / Integer / Boolean.
     pub fn set(&mut self, call: Call, vrs: &[u32], values: &[Value]) -> Status {
+        self.trace(|| format!("{}({vrs:?}, {values:?})", call.name()));
         if let Err(s) = self.check(call) {
             return s;
         }
@@ -514,6 +527,13 @@ impl Instance {
                 return self.error(format!("{}: cannot set {}: {why}", call.name(), v.name));
             }
             let old = self.values[vr as usize];
+            if v.causality == Causality::Input
+                && self.state == State::StepComplete
+                && matches!((old, val), (Value::Real(a), Value::Real(b)) if a.to_bits() == b.to_bits())
+            {
+                // the same value again (importers resend inputs every step): nothing changes
+                continue;
+            }
             self.values[vr as usize] = val;
             if v.causality == Causality::Input {
                 // a new value clears the derivatives set for the old one
@@ -569,6 +589,7 @@ impl Instance {
     /// fmi2Terminated true and the state at the last successful time) when the step cannot be
     /// completed.
     pub fn do_step(&mut self, t: f64, h: f64) -> Status {
+        self.trace(|| format!("fmi2DoStep({t:?}, {h:?})"));
         if let Err(s) = self.check(Call::DoStep) {
             return s;
         }

@@ -117,6 +117,7 @@ fn read_values(r: &mut StateReader, types: &[VarType]) -> Result<Vec<Value>, Str
 impl Instance {
     /// The complete state as bytes (fmi2GetFMUstate, fmi2SerializeFMUstate).
     pub fn save_fmu_state(&mut self, call: Call) -> Result<Vec<u8>, Status> {
+        self.trace(|| format!("{}()", call.name()));
         self.check(call)?;
         let mut p = StateWriter::new();
         p.u64(state_code(self.state));

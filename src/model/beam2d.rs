@@ -549,6 +549,8 @@ impl Beam2d {
                     ProbeQuantity::Y => p.eval(&self.q, 1),
                     ProbeQuantity::Vx => p.eval(&self.v, 0),
                     ProbeQuantity::Vy => p.eval(&self.v, 1),
+                    // 3D quantities are rejected for planar scenes by `scene::beam2d::check`
+                    _ => f64::NAN,
                 }
             }
             OutputKind::Energy(k) => match k {
@@ -660,10 +662,13 @@ impl Beam2d {
         Ok(())
     }
 
-    fn input_signal(&mut self, kind: InputKind) -> &mut InputSignal {
+    /// The signal of an input; planar scenes declare no z forces and no moments (see
+    /// `scene::beam2d::check`).
+    fn input_signal(&mut self, kind: InputKind) -> Option<&mut InputSignal> {
         match kind {
-            InputKind::Load { load, axis } => &mut self.loads[load][axis],
-            InputKind::Motion { port, component } => &mut self.motions[port][component],
+            InputKind::Load { load, axis } if axis < 2 => Some(&mut self.loads[load][axis]),
+            InputKind::Motion { port, component } => Some(&mut self.motions[port][component]),
+            InputKind::Load { .. } | InputKind::Moment { .. } => None,
         }
     }
 }
@@ -671,7 +676,9 @@ impl Beam2d {
 impl Model for Beam2d {
     fn set_input(&mut self, kind: InputKind, value: f64) {
         let t = self.t;
-        self.input_signal(kind).set(value, t);
+        if let Some(sig) = self.input_signal(kind) {
+            sig.set(value, t);
+        }
         if matches!(kind, InputKind::Motion { .. }) {
             self.interface_jacobian();
         }
@@ -686,7 +693,10 @@ impl Model for Beam2d {
         if !(1..=2).contains(&order) {
             return Err(format!("derivative order {order} not supported (1 or 2)"));
         }
-        self.input_signal(kind).set_derivative(order, value);
+        match self.input_signal(kind) {
+            Some(sig) => sig.set_derivative(order, value),
+            None => return Err("no such input in a planar scene".into()),
+        }
         if matches!(kind, InputKind::Motion { .. }) {
             self.interface_jacobian();
         }
@@ -706,6 +716,8 @@ impl Model for Beam2d {
                     ProbeQuantity::Y => p.eval(&self.v, 1),
                     ProbeQuantity::Vx => p.eval(&self.acc, 0),
                     ProbeQuantity::Vy => p.eval(&self.acc, 1),
+                    // planar scenes declare no 3D probe quantities (scene::beam2d::check)
+                    _ => return None,
                 }
             }
             OutputKind::Energy(k) => {

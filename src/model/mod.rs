@@ -1,6 +1,7 @@
 //! Discretised models built from scenes, and the interface the solvers see.
 
 pub mod beam2d;
+pub mod corot3d;
 mod factory;
 pub mod inputs;
 mod system;

@@ -68,6 +68,12 @@ pub trait MechanicalSystem {
         r: &mut [f64],
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError>;
+
+    /// Called by the static solver after every converged load increment with the free
+    /// coordinates of that equilibrium. A model whose coordinates are increments from stored
+    /// values (incremental rotation vectors) absorbs them here and resets `q` consistently, so
+    /// that load stepping can follow rotations of any size. The default does nothing.
+    fn rebase(&mut self, _q: &mut [f64]) {}
 }
 
 /// A model as the simulation driver and the FMU see it: a mechanical system with inputs,

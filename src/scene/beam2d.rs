@@ -21,6 +21,19 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
             ));
         }
     }
+    for (key, present) in [
+        ("[section]", s.section.is_some()),
+        ("[centreline]", s.centreline.is_some()),
+        ("element.theory", s.element.theory.is_some()),
+        ("element.mass", s.element.mass.is_some()),
+        ("gravity.z", s.gravity.as_ref().is_some_and(|g| g.z != 0.0)),
+    ] {
+        if present {
+            errs.push(format!(
+                "{key}: only for 3D element types (\"corotational_3d\"), not for \"ancf_shear_2d\""
+            ));
+        }
+    }
     if let Some(g) = &s.geometry {
         if !g.origin.iter().all(|v| v.is_finite()) || !g.angle_deg.is_finite() {
             errs.push("geometry.origin / geometry.angle_deg: must be finite numbers".into());
@@ -60,6 +73,11 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
         if !l.fx.is_finite() || !l.fy.is_finite() {
             errs.push(format!("{key}: fx and fy must be finite"));
         }
+        if l.fz != 0.0 || l.mx != 0.0 || l.my != 0.0 || l.mz != 0.0 || l.follower {
+            errs.push(format!(
+                "{key}: fz, mx, my, mz and follower are for 3D element types only"
+            ));
+        }
     }
     for (i, m) in s.motions.iter().enumerate() {
         let key = format!("motions[{i}]");
@@ -76,6 +94,11 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
             ));
         }
         let mut seen = BTreeSet::new();
+        for q in p.outputs.iter().filter(|q| !q.is_planar()) {
+            errs.push(format!(
+                "{key}.outputs: {q:?} is for 3D element types only; planar probes give x, y, vx, vy"
+            ));
+        }
         for q in &p.outputs {
             if !seen.insert(format!("{q:?}")) {
                 errs.push(format!("{key}.outputs: {q:?} listed twice"));
@@ -246,6 +269,7 @@ pub fn io(s: &SceneFile) -> Vec<IoVariable> {
                 ProbeQuantity::Y => ("y", "m", "Position y"),
                 ProbeQuantity::Vx => ("vx", "m/s", "Velocity x"),
                 ProbeQuantity::Vy => ("vy", "m/s", "Velocity y"),
+                _ => continue, // rejected by `check`
             };
             out.push(IoVariable::output(
                 format!("{}.{suffix}", p.name),

@@ -25,6 +25,12 @@ pub struct SceneFile {
     /// Material (continuum elements).
     #[serde(default)]
     pub material: Option<MaterialSection>,
+    /// Section properties (co-rotational 3D beams).
+    #[serde(default)]
+    pub section: Option<SectionTable>,
+    /// Reference centre line (co-rotational 3D beams).
+    #[serde(default)]
+    pub centreline: Option<CentrelineSection>,
     /// Gravity (omit for none: then no gravity parameters are exposed).
     #[serde(default)]
     pub gravity: Option<GravitySection>,
@@ -112,6 +118,16 @@ pub enum ElementType {
     /// Seed 000: linear shear-deformable 2D ANCF beam (4 coordinates per node).
     #[serde(rename = "ancf_shear_2d")]
     AncfShear2d,
+    /// Seed 003: two-node co-rotational 3D beam (6 coordinates per node).
+    #[serde(rename = "corotational_3d")]
+    Corotational3d,
+}
+
+impl ElementType {
+    /// Whether the element lives in 3D (positions x, y, z).
+    pub fn is_3d(&self) -> bool {
+        matches!(self, Self::Corotational3d)
+    }
 }
 
 /// `[element]`
@@ -130,6 +146,12 @@ pub struct ElementSection {
     /// Shear correction factor k_s of Eq. 12.
     #[serde(default = "default_shear_coefficient")]
     pub shear_coefficient: f64,
+    /// Co-rotational beams: 1 = Euler–Bernoulli, 2 = Timoshenko local stiffness (default 2).
+    #[serde(default)]
+    pub theory: Option<i32>,
+    /// Co-rotational beams: 1 = three lumped masses, 2 = consistent (default 1).
+    #[serde(default)]
+    pub mass: Option<i32>,
 }
 
 fn default_shear_rule() -> i32 {
@@ -191,6 +213,76 @@ pub struct GravitySection {
     /// [m/s2]
     #[serde(default)]
     pub y: f64,
+    /// [m/s2] (3D scenes only)
+    #[serde(default)]
+    pub z: f64,
+}
+
+/// `[section]`: section properties of a co-rotational beam, as beam users give them (the
+/// names are the FMU parameters `section.EA`, ...).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct SectionTable {
+    /// Axial stiffness [N].
+    pub EA: f64,
+    /// Shear stiffness (with shear coefficient) for deflection along local y [N].
+    pub GAy: f64,
+    /// Shear stiffness for deflection along local z [N].
+    pub GAz: f64,
+    /// Torsional stiffness [N m2].
+    pub GJ: f64,
+    /// Bending stiffness about local y [N m2].
+    pub EIy: f64,
+    /// Bending stiffness about local z [N m2].
+    pub EIz: f64,
+    /// Mass per length [kg/m].
+    pub rhoA: f64,
+    /// Polar rotary inertia per length [kg m].
+    pub rhoJx: f64,
+    /// Rotary inertia per length about local y [kg m].
+    pub rhoIy: f64,
+    /// Rotary inertia per length about local z [kg m].
+    pub rhoIz: f64,
+}
+
+/// `[centreline]`: the reference centre line of a 3D beam, piece by piece from `start`
+/// (not parameters).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CentrelineSection {
+    /// Start point [m].
+    #[serde(default)]
+    pub start: [f64; 3],
+    /// Hint for the local z axis of the sections: `e2 = hint × e1/|…|`, `e3 = e1 × e2`
+    /// (default global z; global y where an element is parallel to the hint).
+    #[serde(default)]
+    pub section_z: Option<[f64; 3]>,
+    /// The pieces, in order.
+    pub segments: Vec<SegmentSpec>,
+}
+
+/// `[[centreline.segments]]`: a straight piece (`length`) or a circular arc (`radius`,
+/// `angle_deg`, `bend_axis`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentSpec {
+    /// Start tangent (required for the first piece; default: the end tangent of the previous
+    /// piece).
+    #[serde(default)]
+    pub direction: Option<[f64; 3]>,
+    /// Length of a straight piece [m].
+    #[serde(default)]
+    pub length: Option<f64>,
+    /// Radius of an arc [m].
+    #[serde(default)]
+    pub radius: Option<f64>,
+    /// Angle of an arc [deg].
+    #[serde(default)]
+    pub angle_deg: Option<f64>,
+    /// Axis about which an arc turns its tangent (right-hand rule), not parallel to it.
+    #[serde(default)]
+    pub bend_axis: Option<[f64; 3]>,
 }
 
 /// Integer code or name of a choice parameter.
@@ -332,6 +424,23 @@ pub struct LoadSpec {
     /// Start value of the y force [N].
     #[serde(default)]
     pub fy: f64,
+    /// Start value of the z force [N] (3D scenes).
+    #[serde(default)]
+    pub fz: f64,
+    /// Start value of the moment about x [N m] (3D scenes).
+    #[serde(default)]
+    pub mx: f64,
+    /// Start value of the moment about y [N m] (3D scenes).
+    #[serde(default)]
+    pub my: f64,
+    /// Start value of the moment about z [N m] (3D scenes).
+    #[serde(default)]
+    pub mz: f64,
+    /// 3D scenes: `false` (default) = fixed-direction (dead) load, components in the global
+    /// frame; `true` = follower load, components given in the global frame of the reference
+    /// configuration and rotating with the node.
+    #[serde(default)]
+    pub follower: bool,
 }
 
 /// `[[motions]]`: a node whose position is prescribed by inputs (motion in, force out).
@@ -357,6 +466,36 @@ pub enum ProbeQuantity {
     Vx,
     /// Velocity y [m/s].
     Vy,
+    /// Position z [m] (3D).
+    Z,
+    /// Velocity z [m/s] (3D).
+    Vz,
+    /// Rotation vector of the node from its reference orientation, x component [rad] (3D,
+    /// principal value, |r| ≤ π).
+    Rx,
+    /// Rotation vector, y component [rad] (3D).
+    Ry,
+    /// Rotation vector, z component [rad] (3D).
+    Rz,
+    /// Direction cosine of the beam axis with global x [1] (3D).
+    Tx,
+    /// Direction cosine of the beam axis with global y [1] (3D).
+    Ty,
+    /// Direction cosine of the beam axis with global z [1] (3D).
+    Tz,
+    /// Angular velocity, global x component [rad/s] (3D).
+    Wx,
+    /// Angular velocity, global y component [rad/s] (3D).
+    Wy,
+    /// Angular velocity, global z component [rad/s] (3D).
+    Wz,
+}
+
+impl ProbeQuantity {
+    /// Whether the quantity exists in planar scenes.
+    pub fn is_planar(&self) -> bool {
+        matches!(self, Self::X | Self::Y | Self::Vx | Self::Vy)
+    }
 }
 
 /// `[[probes]]`: outputs at a point of the centre line.

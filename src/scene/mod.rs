@@ -3,6 +3,7 @@
 //! which the variable table and the model are built.
 
 pub mod beam2d;
+pub mod corot3d;
 pub mod file;
 pub mod params;
 mod validate;
@@ -18,6 +19,9 @@ use file::ElementType;
 pub enum SceneKind {
     /// A straight planar beam of seed-000 elements with supports, point loads and probes.
     Beam2d,
+    /// A 3D beam of seed-003 co-rotational elements along a centre line of straight and
+    /// circular pieces, with supports, point loads (forces and moments) and probes.
+    Corot3d,
 }
 
 /// A parsed and checked scene.
@@ -47,6 +51,7 @@ impl Scene {
             toml::from_str(text).map_err(|e| SceneError(format!("scene file: {e}")))?;
         let kind = match file.element.kind {
             ElementType::AncfShear2d => SceneKind::Beam2d,
+            ElementType::Corotational3d => SceneKind::Corot3d,
         };
         let fail = |errs: Vec<String>| SceneError(format!("scene file: {}", errs.join("; ")));
         validate::check_common(&file).map_err(fail)?;
@@ -56,6 +61,13 @@ impl Scene {
                 (
                     beam2d::params(&file).map_err(|e| fail(vec![e]))?,
                     beam2d::io(&file),
+                )
+            }
+            SceneKind::Corot3d => {
+                corot3d::check(&file).map_err(fail)?;
+                (
+                    corot3d::params(&file).map_err(|e| fail(vec![e]))?,
+                    corot3d::io(&file),
                 )
             }
         };

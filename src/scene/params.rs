@@ -32,6 +32,8 @@ pub mod names {
     pub const GRAVITY_X: &str = "gravity.x";
     /// Gravity y [m/s2].
     pub const GRAVITY_Y: &str = "gravity.y";
+    /// Gravity z [m/s2] (3D scenes).
+    pub const GRAVITY_Z: &str = "gravity.z";
     /// Static solve at initialization (Boolean).
     pub const SOLVER_STATIC: &str = "solver.static_equilibrium";
     /// Integrator (Integer).
@@ -233,8 +235,23 @@ pub fn int_param(v: i64, key: &str) -> Result<i32, String> {
     i32::try_from(v).map_err(|_| format!("{key}: {v} does not fit a 32-bit Integer"))
 }
 
-/// Gravity parameters, if the scene has a `[gravity]` table (2D components x, y).
+/// Gravity parameters, if the scene has a `[gravity]` table (components x, y; and z for 3D
+/// element types).
 pub fn gravity_params(scene: &SceneFile) -> Vec<ParamDef> {
+    let mut defs = gravity_params_planar(scene);
+    if let (Some(g), true) = (&scene.gravity, scene.element.kind.is_3d()) {
+        defs.push(ParamDef::new(
+            GRAVITY_Z,
+            Value::Real(g.z),
+            Some("m/s2"),
+            "Gravity, z component",
+            Check::Finite,
+        ));
+    }
+    defs
+}
+
+fn gravity_params_planar(scene: &SceneFile) -> Vec<ParamDef> {
     match &scene.gravity {
         None => vec![],
         Some(g) => vec![

@@ -30,6 +30,9 @@ pub enum NewtonPolicy {
 /// Largest contraction rate accepted before modified Newton rebuilds the iteration matrix.
 pub const MODIFIED_NEWTON_RATE: f64 = 0.25;
 
+/// Iterations in a row that modified Newton does with one matrix before rebuilding it.
+pub const MODIFIED_NEWTON_MAX_REUSE: usize = 4;
+
 /// Why Newton failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum NewtonError {
@@ -163,6 +166,7 @@ pub fn solve(
     let mut stats = NewtonStats::default();
     let mut fresh = !(modified && ws.factored == Some(key));
     let mut last = f64::INFINITY;
+    let mut stale_iterations = 0;
     let mut it = 0;
     while it < settings.max_iterations {
         it += 1;
@@ -200,10 +204,15 @@ pub fn solve(
         }
         // With linear convergence at rate θ the remaining error is about θ/(1−θ) times the
         // increment (Hairer & Wanner); with quadratic convergence the increment bounds it.
-        let estimate = if !fresh && rate < 1.0 {
-            inc * rate / (1.0 - rate)
-        } else {
+        // A first increment with a kept (stale) matrix says nothing about the rate: iterate on.
+        let estimate = if fresh {
             inc
+        } else if last.is_finite() && rate < 1.0 {
+            inc * rate / (1.0 - rate)
+        } else if inc == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
         };
         if inc <= settings.tolerance && estimate <= settings.tolerance {
             if !modified {
@@ -211,7 +220,12 @@ pub fn solve(
             }
             return Ok(stats);
         }
-        fresh = !modified || (last.is_finite() && rate > MODIFIED_NEWTON_RATE);
+        stale_iterations = if fresh { 0 } else { stale_iterations + 1 };
+        // Rebuild when the iteration contracts slowly, or after a few iterations with the same
+        // matrix (a kept matrix must not turn one step into many cheap but slow iterations).
+        fresh = !modified
+            || (last.is_finite() && rate > MODIFIED_NEWTON_RATE)
+            || stale_iterations >= MODIFIED_NEWTON_MAX_REUSE;
         last = inc;
     }
     ws.factored = None;

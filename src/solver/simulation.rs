@@ -156,8 +156,10 @@ impl Simulation {
         Ok(report)
     }
 
-    /// Solves `M acc = f_ext − f_int(q, v)` at the current state and restarts the algorithmic
-    /// acceleration (used at initialization and when inputs jump).
+    /// Solves `M acc = f_ext − f_int(q, v)` at the current state: at initialization the
+    /// algorithmic acceleration starts equal to it; when inputs jump at a communication point
+    /// (zero-order hold) the algorithmic acceleration moves by the same jump, so that
+    /// generalized-α keeps its history (and Newmark's `a = acc` stays true).
     /// With `hold_ports`, prescribed-motion inputs that changed at this communication point
     /// are not applied at its start: a port that was told to be elsewhere gets there during the
     /// step instead of jumping (see [`Model::hold_prescribed_motion`]).
@@ -192,14 +194,22 @@ impl Simulation {
         if self.model.constant_mass() {
             self.ws.mark_factored(coeff_key(&coeffs));
         }
+        let acc = &mut self.trial.acc;
         for i in 0..n {
-            self.state.acc[i] = -self.ws.r[i];
+            acc[i] = -self.ws.r[i];
         }
-        self.ws.solver.solve_in_place(&mut self.state.acc);
-        if self.state.acc.iter().any(|x| !x.is_finite()) {
+        self.ws.solver.solve_in_place(acc);
+        if acc.iter().any(|x| !x.is_finite()) {
             return Err("initial accelerations are not finite".into());
         }
-        self.state.a.copy_from_slice(&self.state.acc);
+        if hold_ports {
+            for i in 0..n {
+                self.state.a[i] += acc[i] - self.state.acc[i];
+            }
+        } else {
+            self.state.a.copy_from_slice(acc);
+        }
+        self.state.acc.copy_from_slice(acc);
         self.inputs_changed = false;
         Ok(())
     }

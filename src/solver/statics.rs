@@ -114,6 +114,7 @@ pub fn solve(
                 stats.newton += s;
                 stats.increments += 1;
                 q.copy_from_slice(&trial);
+                sys.rebase(q);
                 lambda = target;
                 if s.iterations <= settings.max_iterations / 3 {
                     dl *= 2.0;

@@ -1,0 +1,1214 @@
+//! Seed-003 element: two-node co-rotational 3D beam with Euler–Bernoulli or Timoshenko local
+//! stiffness and three-point lumped inertia.
+//!
+//! Seed: Wang, Qi & Xu 2020, "A high-precision co-rotational formulation of 3D beam elements
+//! for dynamic analysis of flexible multibody systems", CMAME 360:112701 (abstract only). The
+//! formulation is that of `shared/reference/seed003-corotational-beam.md`: element frame and
+//! local deformations after Crisfield 1990 / Battini & Pacoste 2002 (B.1), the small-deformation
+//! stiffness used unchanged in the co-rotated frame (B.3), and inertia from three lumped masses
+//! at the ends and the mid-point with Simpson weights 1/6, 2/3, 1/6 (B.4).
+//!
+//! **Nodes and coordinates.** A node carries a position `x` [m] and an orientation `R ∈ SO(3)`,
+//! the rotation from the reference configuration (`R = I` there). The kernels take `R` as a
+//! matrix; how it is stored (the model keeps unit quaternions and incremental rotation vectors)
+//! is not their business. Element force vectors are ordered `[x1, θ1, x2, θ2]` (3 each): forces
+//! on the positions (global components) and moments conjugate to a *body* spin `δW_i`
+//! (`R_i → R_i exp(δW̃_i)`), i.e. `R_iᵀ` times the spatial moment. Tangents are derivatives with
+//! respect to `[δx1, δW1, δx2, δW2]`; the model chains them with the tangent of its rotation
+//! parameters ([`super::rotation::tangent_body`]). Velocities are `ẋ_i` and the body angular
+//! velocities `Ω_i` (`Ṙ_i = R_i Ω̃_i`), accelerations `ẍ_i`, `Ω̇_i`.
+//!
+//! **Element frame** (B.1.1–3). `R0 = [e1⁰ e2⁰ e3⁰]`: reference chord and section axes. Current
+//! chord `e1 = (x2 − x1)/l`; `q_i = R_i e2⁰`, `q = (q1 + q2)/2`, `e3 = e1 × q/|e1 × q|`,
+//! `e2 = e3 × e1`, `Rr = [e1 e2 e3]`. Local deformations: `ū = l − l0` and
+//! `θ̄_i = log(Rrᵀ R_i R0)` (torsion `θ̄_2x − θ̄_1x`, bending `θ̄_iy`, `θ̄_iz`). A rigid motion of
+//! any size leaves all seven unchanged, so it produces neither strain nor force.
+//!
+//! The file follows the fixed order of every element: shape functions (and kinematics), mass,
+//! internal forces, tangent.
+
+use super::quadrature::gauss_legendre;
+use super::rotation::{log_so3, skew, tangent_spatial_inv, tangent_spatial_inv_t_apply};
+use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
+
+/// Coordinates per node (position and rotation).
+pub const NODE_DOFS: usize = 6;
+/// Coordinates per element.
+pub const ELEMENT_DOFS: usize = 12;
+/// Element vector `[x1, θ1, x2, θ2]`.
+pub type Vec12 = SVector<f64, ELEMENT_DOFS>;
+/// Element matrix.
+pub type Mat12 = SMatrix<f64, ELEMENT_DOFS, ELEMENT_DOFS>;
+type M3x12 = SMatrix<f64, 3, ELEMENT_DOFS>;
+type R12 = SMatrix<f64, 1, ELEMENT_DOFS>;
+
+/// Most inertia points of one element (consistent variant: 4 centre-line points and 2 × 3
+/// section directors).
+const MAX_POINTS: usize = 10;
+
+/// Local small-deformation beam theory in the co-rotated frame (B.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Theory {
+    /// Bending block `(2EI/l0) [[2, 1], [1, 2]]`.
+    EulerBernoulli,
+    /// Bending block `(EI/((1 + Φ) l0)) [[4 + Φ, 2 − Φ], [2 − Φ, 4 + Φ]]`,
+    /// `Φ = 12 EI/(GA l0²)` (shear-deformable, statically condensed).
+    Timoshenko,
+}
+
+/// How the kinetic energy of an element is integrated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MassModel {
+    /// Three lumped masses (B.4): the end nodes and the mid-point, Simpson weights
+    /// 1/6, 2/3, 1/6 of the element's mass and rotary inertia.
+    Lumped,
+    /// Consistent: the same kinematics integrated by Gauss–Legendre quadrature (4 points on the
+    /// centre line, exact for a straight element; 2 points for the section rotary inertia).
+    Consistent,
+}
+
+/// Section properties of a beam, as beam users give them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BeamSection {
+    /// Axial stiffness `EA` [N].
+    pub ea: f64,
+    /// Shear stiffness for deflection along local y, including the shear coefficient [N].
+    pub ga_y: f64,
+    /// Shear stiffness for deflection along local z [N].
+    pub ga_z: f64,
+    /// Torsional stiffness `GJ` [N m²].
+    pub gj: f64,
+    /// Bending stiffness about local y (deflection along z) [N m²].
+    pub ei_y: f64,
+    /// Bending stiffness about local z (deflection along y) [N m²].
+    pub ei_z: f64,
+    /// Mass per length `ρA` [kg/m].
+    pub rho_a: f64,
+    /// Polar rotary inertia per length `ρJ_x` [kg m].
+    pub rho_jx: f64,
+    /// Rotary inertia per length about local y [kg m].
+    pub rho_iy: f64,
+    /// Rotary inertia per length about local z [kg m].
+    pub rho_iz: f64,
+}
+
+impl BeamSection {
+    /// Second moments of the section mass per length `E_kk = ∫ X_k² dm` along the section axes
+    /// (the Euler tensor, `E = ½ tr(J) I − J`): `[½(Iy + Iz − Jx), ½(Jx + Iz − Iy),
+    /// ½(Jx + Iy − Iz)]` [kg m]. The rotational kinetic energy of a section with directors
+    /// `d_k` is `½ Σ E_kk |ḋ_k|²`, which equals `½ ωᵀ J ω`. A physical section has
+    /// `E_kk ≥ 0` (`J_x = I_y + I_z` for a thin section gives `E_11 = 0`); the element clips
+    /// negative values from rounded data at zero.
+    pub fn euler_tensor(&self) -> Vector3<f64> {
+        let (jx, iy, iz) = (self.rho_jx, self.rho_iy, self.rho_iz);
+        Vector3::new(
+            0.5 * (iy + iz - jx),
+            0.5 * (jx + iz - iy),
+            0.5 * (jx + iy - iz),
+        )
+    }
+}
+
+/// Configuration of an element's two nodes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nodes {
+    /// Positions [m].
+    pub x: [Vector3<f64>; 2],
+    /// Rotations from the reference configuration.
+    pub r: [Matrix3<f64>; 2],
+}
+
+/// Rates of an element's two nodes: `ẋ_i` [m/s] and `Ω_i` [rad/s] (or their time derivatives).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Rates {
+    /// Translational rates.
+    pub x: [Vector3<f64>; 2],
+    /// Body angular rates.
+    pub w: [Vector3<f64>; 2],
+}
+
+impl Rates {
+    /// From an element vector `[ẋ1, Ω1, ẋ2, Ω2]`.
+    pub fn from_vec(v: &Vec12) -> Self {
+        let b = |k: usize| Vector3::new(v[k], v[k + 1], v[k + 2]);
+        Self {
+            x: [b(0), b(6)],
+            w: [b(3), b(9)],
+        }
+    }
+}
+
+/// A point of the kinetic-energy quadrature: `y = Σ_i α_i x_i + Σ_i R_i c_i` with weight `μ`.
+/// Centre-line points carry mass (`μ` [kg], gravity acts on them); director points carry the
+/// section's rotary inertia (`y` is a director, `μ` = a second moment `E_kk` times length
+/// [kg m²]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct InertiaPoint {
+    alpha: [f64; 2],
+    c: [Vector3<f64>; 2],
+    mu: f64,
+    mass: bool,
+}
+
+/// One element: reference geometry, local stiffness and inertia data.
+#[derive(Clone, Debug)]
+pub struct Corot3d {
+    l0: f64,
+    r0: Matrix3<f64>,
+    k_axial: f64,
+    k_torsion: f64,
+    k_bend_y: Matrix2<f64>,
+    k_bend_z: Matrix2<f64>,
+    points: [InertiaPoint; MAX_POINTS],
+    n_points: usize,
+    end_mass: f64,
+    end_inertia: Matrix3<f64>,
+}
+
+/// Reference section frame `R0 = [e1 e2 e3]` of a chord from `x1` to `x2`: `e1` along the
+/// chord, `e2 = z_hint × e1/|…|`, `e3 = e1 × e2` (the local z axis is the hint made
+/// perpendicular to the chord). `None` if the chord is degenerate or parallel to the hint.
+pub fn reference_frame(
+    x1: &Vector3<f64>,
+    x2: &Vector3<f64>,
+    z_hint: &Vector3<f64>,
+) -> Option<Matrix3<f64>> {
+    let d = x2 - x1;
+    let l = d.norm();
+    if !l.is_finite() || l <= 0.0 {
+        return None;
+    }
+    let e1 = d / l;
+    let y = z_hint.cross(&e1);
+    let n = y.norm();
+    if n < 1e-8 * z_hint.norm().max(f64::MIN_POSITIVE) {
+        return None;
+    }
+    let e2 = y / n;
+    Some(Matrix3::from_columns(&[e1, e2, e1.cross(&e2)]))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shape functions and kinematics
+// ---------------------------------------------------------------------------------------------
+
+/// Cubic Hermite basis on `ξ ∈ [0, 1]`: `[h00, h10, h01, h11]`, so that a curve with end points
+/// `x1`, `x2` and end tangents `l0 t1`, `l0 t2` is
+/// `y(ξ) = h00 x1 + h01 x2 + l0 (h10 t1 + h11 t2)`. At ξ = ½: `[½, 1/8, ½, −1/8]`.
+pub fn hermite(xi: f64) -> [f64; 4] {
+    let (x2, x3) = (xi * xi, xi * xi * xi);
+    [
+        1.0 - 3.0 * x2 + 2.0 * x3,
+        xi - 2.0 * x2 + x3,
+        3.0 * x2 - 2.0 * x3,
+        x3 - x2,
+    ]
+}
+
+/// The co-rotated frame and the local deformations of a configuration.
+#[derive(Clone, Copy, Debug)]
+pub struct Local {
+    /// Chord length [m].
+    pub l: f64,
+    /// Element frame `Rr = [e1 e2 e3]`.
+    pub rr: Matrix3<f64>,
+    /// `q_i = R_i e2⁰` (global).
+    pub q: [Vector3<f64>; 2],
+    /// Local components `(q·e1, q·e2)` of `q = (q1 + q2)/2` (`q·e3 = 0`).
+    pub qm: Vector2<f64>,
+    /// Elongation `ū = l − l0` [m].
+    pub u: f64,
+    /// Local rotations `θ̄_i = log(Rrᵀ R_i R0)` [rad].
+    pub theta: [Vector3<f64>; 2],
+}
+
+impl Corot3d {
+    /// An element of reference length `l0` [m] and reference section frame `r0` (columns: chord
+    /// direction, local y, local z; see [`reference_frame`]).
+    pub fn new(
+        l0: f64,
+        r0: Matrix3<f64>,
+        s: &BeamSection,
+        theory: Theory,
+        mass: MassModel,
+    ) -> Self {
+        let bend = |ei: f64, ga: f64| -> Matrix2<f64> {
+            match theory {
+                Theory::EulerBernoulli => Matrix2::new(2.0, 1.0, 1.0, 2.0) * (2.0 * ei / l0),
+                Theory::Timoshenko => {
+                    let phi = 12.0 * ei / (ga * l0 * l0);
+                    Matrix2::new(4.0 + phi, 2.0 - phi, 2.0 - phi, 4.0 + phi)
+                        * (ei / ((1.0 + phi) * l0))
+                }
+            }
+        };
+        let t0 = r0.column(0).into_owned();
+        let jsec = Matrix3::from_diagonal(&Vector3::new(s.rho_jx, s.rho_iy, s.rho_iz));
+        let euler = s.euler_tensor();
+        let m = s.rho_a * l0;
+        let zero = InertiaPoint {
+            alpha: [0.0; 2],
+            c: [Vector3::zeros(); 2],
+            mu: 0.0,
+            mass: false,
+        };
+        let mut points = [zero; MAX_POINTS];
+        let mut n = 0;
+        let mut push = |p: InertiaPoint| {
+            if p.mu != 0.0 {
+                points[n] = p;
+                n += 1;
+            }
+        };
+        // A centre-line point at ξ with weight w (fraction of the element).
+        let centre = |xi: f64, w: f64| {
+            let h = hermite(xi);
+            InertiaPoint {
+                alpha: [h[0], h[2]],
+                c: [t0 * (l0 * h[1]), t0 * (l0 * h[3])],
+                mu: w * m,
+                mass: true,
+            }
+        };
+        // Director k of the section at ξ (linear interpolation of the nodal directors).
+        let director = |xi: f64, w: f64, k: usize| {
+            let d = r0.column(k).into_owned();
+            InertiaPoint {
+                alpha: [0.0; 2],
+                c: [d * (1.0 - xi), d * xi],
+                mu: w * l0 * euler[k].max(0.0),
+                mass: false,
+            }
+        };
+        let (end_mass, end_inertia) = match mass {
+            MassModel::Lumped => {
+                push(centre(0.5, 2.0 / 3.0));
+                for k in 0..3 {
+                    push(director(0.5, 2.0 / 3.0, k));
+                }
+                (m / 6.0, r0 * jsec * r0.transpose() * (l0 / 6.0))
+            }
+            MassModel::Consistent => {
+                for &(g, w) in gauss_legendre(4) {
+                    push(centre(0.5 * (g + 1.0), 0.5 * w));
+                }
+                for &(g, w) in gauss_legendre(2) {
+                    for k in 0..3 {
+                        push(director(0.5 * (g + 1.0), 0.5 * w, k));
+                    }
+                }
+                (0.0, Matrix3::zeros())
+            }
+        };
+        Self {
+            l0,
+            r0,
+            k_axial: s.ea / l0,
+            k_torsion: s.gj / l0,
+            k_bend_y: bend(s.ei_y, s.ga_z),
+            k_bend_z: bend(s.ei_z, s.ga_y),
+            points,
+            n_points: n,
+            end_mass,
+            end_inertia,
+        }
+    }
+
+    /// Reference length [m].
+    pub fn length(&self) -> f64 {
+        self.l0
+    }
+
+    /// Reference section frame `R0`.
+    pub fn reference_frame(&self) -> &Matrix3<f64> {
+        &self.r0
+    }
+
+    /// Element frame and local deformations (B.1.2–4).
+    pub fn local(&self, n: &Nodes) -> Local {
+        let d = n.x[1] - n.x[0];
+        let l = d.norm();
+        let e1 = d / l;
+        let y0 = self.r0.column(1).into_owned();
+        let q = [n.r[0] * y0, n.r[1] * y0];
+        let qmean = 0.5 * (q[0] + q[1]);
+        let e3u = e1.cross(&qmean);
+        let e3 = e3u / e3u.norm();
+        let e2 = e3.cross(&e1);
+        let rr = Matrix3::from_columns(&[e1, e2, e3]);
+        let theta = [
+            log_so3(&(rr.transpose() * n.r[0] * self.r0)),
+            log_so3(&(rr.transpose() * n.r[1] * self.r0)),
+        ];
+        Local {
+            l,
+            rr,
+            q,
+            qm: Vector2::new(qmean.dot(&e1), qmean.dot(&e2)),
+            u: l - self.l0,
+            theta,
+        }
+    }
+
+    /// Position of the centre line at `ξ ∈ [0, 1]` from the cubic Hermite interpolation of the
+    /// nodal positions and tangents `R_i e1⁰` (the kinematics of the inertia points).
+    pub fn centre_line(&self, n: &Nodes, xi: f64) -> Vector3<f64> {
+        let h = hermite(xi);
+        let t0 = self.r0.column(0).into_owned();
+        n.x[0] * h[0] + n.x[1] * h[2] + (n.r[0] * t0 * h[1] + n.r[1] * t0 * h[3]) * self.l0
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Mass
+    // -----------------------------------------------------------------------------------------
+
+    /// Kinetic energy [J]: `Σ_p ½ μ_p |ẏ_p|²` over the inertia points plus, for the lumped
+    /// model, `½ m_e |ẋ_i|² + ½ Ω_iᵀ J_e Ω_i` of the end nodes (`m_e = ρA l0/6`,
+    /// `J_e = (l0/6) R0 diag(ρJx, ρIy, ρIz) R0ᵀ`).
+    pub fn kinetic_energy(&self, n: &Nodes, v: &Rates) -> f64 {
+        let mut t = 0.0;
+        for p in &self.points[..self.n_points] {
+            let yd = v.x[0] * p.alpha[0]
+                + v.x[1] * p.alpha[1]
+                + n.r[0] * v.w[0].cross(&p.c[0])
+                + n.r[1] * v.w[1].cross(&p.c[1]);
+            t += 0.5 * p.mu * yd.norm_squared();
+        }
+        for i in 0..2 {
+            t += 0.5 * self.end_mass * v.x[i].norm_squared()
+                + 0.5 * v.w[i].dot(&(self.end_inertia * v.w[i]));
+        }
+        t
+    }
+
+    /// Gravity potential `−Σ m g·y` [J] of the mass points (gravity `g` [m/s²]).
+    pub fn gravity_potential(&self, n: &Nodes, g: &Vector3<f64>) -> f64 {
+        let mut v = -self.end_mass * g.dot(&(n.x[0] + n.x[1]));
+        for p in self.points[..self.n_points].iter().filter(|p| p.mass) {
+            let y = n.x[0] * p.alpha[0] + n.x[1] * p.alpha[1] + n.r[0] * p.c[0] + n.r[1] * p.c[1];
+            v -= p.mu * g.dot(&y);
+        }
+        v
+    }
+
+    /// Inertia and gravity force in residual form, added to `f`:
+    /// `Σ_p B_pᵀ μ_p (ÿ_p − g)` (g on mass points only) with
+    /// `ÿ_p = Σ α_i ẍ_i + Σ R_i (Ω̇_i × c_i + Ω_i × (Ω_i × c_i))` and
+    /// `B_p = [α_1 I, −R_1 c̃_1, α_2 I, −R_2 c̃_2]` (so the moment on node i is
+    /// `c_i × R_iᵀ F_p`), plus the end-node rigid bodies `m_e (ẍ_i − g)`,
+    /// `J_e Ω̇_i + Ω_i × J_e Ω_i`. All in closed form, no Gauss integration for the lumped model.
+    ///
+    /// If `mats = Some((cm, cd, mc, k))`, adds `cm·M + cd·C` to `mc` (mass `∂f/∂(ẍ, Ω̇)`,
+    /// gyroscopic `∂f/∂(ẋ, Ω)`) and the configuration derivative `∂f/∂(x, W)` (body spins) to
+    /// `k`.
+    pub fn inertia_force(
+        &self,
+        n: &Nodes,
+        v: &Rates,
+        a: &Rates,
+        g: &Vector3<f64>,
+        f: &mut Vec12,
+        mats: Option<(f64, f64, &mut Mat12, &mut Mat12)>,
+    ) {
+        let mut mats = mats;
+        for p in &self.points[..self.n_points] {
+            let mut ydd = a.x[0] * p.alpha[0] + a.x[1] * p.alpha[1];
+            let mut z = [Vector3::zeros(); 2];
+            for i in 0..2 {
+                z[i] = a.w[i].cross(&p.c[i]) + v.w[i].cross(&v.w[i].cross(&p.c[i]));
+                ydd += n.r[i] * z[i];
+            }
+            let force = if p.mass { (ydd - g) * p.mu } else { ydd * p.mu };
+            // B_p = [α_1 I, G_1, α_2 I, G_2] with G_i = −R_i c̃_i; rows of Bᵀ F.
+            let gm = [-n.r[0] * skew(&p.c[0]), -n.r[1] * skew(&p.c[1])];
+            for i in 0..2 {
+                let fx = force * p.alpha[i];
+                let mx = gm[i].transpose() * force;
+                for c in 0..3 {
+                    f[6 * i + c] += fx[c];
+                    f[6 * i + 3 + c] += mx[c];
+                }
+            }
+            if let Some((cm, cd, mc, k)) = mats.as_mut() {
+                let (cm, cd, mu) = (*cm, *cd, p.mu);
+                // Columns of the rotation rates: mass (G_j), gyroscopic (R_j Γ_j, Γ = ∂z/∂Ω)
+                // and configuration (−R_j z̃_j) parts of ∂ÿ/∂(·)_j.
+                let mut w = [Matrix3::zeros(); 2];
+                let mut zc = [Matrix3::zeros(); 2];
+                for j in 0..2 {
+                    let (om, c) = (&v.w[j], &p.c[j]);
+                    let gamma = Matrix3::identity() * om.dot(c) + om * c.transpose()
+                        - 2.0 * c * om.transpose();
+                    w[j] = gm[j] * (cm * mu) + n.r[j] * gamma * (cd * mu);
+                    zc[j] = -n.r[j] * skew(&z[j]) * mu;
+                }
+                for i in 0..2 {
+                    let gt = gm[i].transpose();
+                    for j in 0..2 {
+                        let (ai, aj) = (p.alpha[i], p.alpha[j]);
+                        if ai != 0.0 {
+                            let mut xx = mc.fixed_view_mut::<3, 3>(6 * i, 6 * j);
+                            if aj != 0.0 {
+                                for d in 0..3 {
+                                    xx[(d, d)] += cm * mu * ai * aj;
+                                }
+                            }
+                            let mut xt = mc.fixed_view_mut::<3, 3>(6 * i, 6 * j + 3);
+                            xt += w[j] * ai;
+                            let mut kxt = k.fixed_view_mut::<3, 3>(6 * i, 6 * j + 3);
+                            kxt += zc[j] * ai;
+                        }
+                        if aj != 0.0 {
+                            let mut tx = mc.fixed_view_mut::<3, 3>(6 * i + 3, 6 * j);
+                            tx += gt * (cm * mu * aj);
+                        }
+                        let mut tt = mc.fixed_view_mut::<3, 3>(6 * i + 3, 6 * j + 3);
+                        tt += gt * w[j];
+                        let mut ktt = k.fixed_view_mut::<3, 3>(6 * i + 3, 6 * j + 3);
+                        ktt += gt * zc[j];
+                    }
+                    let blk = skew(&p.c[i]) * skew(&(n.r[i].transpose() * force));
+                    let mut view = k.fixed_view_mut::<3, 3>(6 * i + 3, 6 * i + 3);
+                    view += blk;
+                }
+            }
+        }
+        if self.end_mass != 0.0 {
+            let (m, j) = (self.end_mass, &self.end_inertia);
+            for i in 0..2 {
+                let fx = (a.x[i] - g) * m;
+                let jw = j * v.w[i];
+                let mw = j * a.w[i] + v.w[i].cross(&jw);
+                for c in 0..3 {
+                    f[6 * i + c] += fx[c];
+                    f[6 * i + 3 + c] += mw[c];
+                }
+                if let Some((cm, cd, mc, _)) = mats.as_mut() {
+                    let mut tv = mc.fixed_view_mut::<3, 3>(6 * i, 6 * i);
+                    tv += Matrix3::identity() * (*cm * m);
+                    let mut rv = mc.fixed_view_mut::<3, 3>(6 * i + 3, 6 * i + 3);
+                    rv += j * *cm + (skew(&v.w[i]) * j - skew(&jw)) * *cd;
+                }
+            }
+        }
+    }
+
+    /// Mass matrix `∂f/∂(ẍ, Ω̇)` of a configuration (symmetric, `Σ μ_p B_pᵀ B_p` plus the end
+    /// nodes).
+    pub fn mass_matrix(&self, n: &Nodes) -> Mat12 {
+        let mut mc = Mat12::zeros();
+        let mut k = Mat12::zeros();
+        let mut f = Vec12::zeros();
+        let zero = Rates::default();
+        self.inertia_force(
+            n,
+            &zero,
+            &zero,
+            &Vector3::zeros(),
+            &mut f,
+            Some((1.0, 0.0, &mut mc, &mut k)),
+        );
+        mc
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Internal forces
+    // -----------------------------------------------------------------------------------------
+
+    /// Local forces of the small-deformation beam (B.3): axial force `N = EA ū/l0` [N], local
+    /// end moments `n_i` [N m] (torsion `∓GJ (θ̄_2x − θ̄_1x)/l0`, bending blocks per plane), and
+    /// the strain energy `U = ½ pᵀ K_l p` [J].
+    fn local_forces(&self, loc: &Local) -> (f64, [Vector3<f64>; 2], f64) {
+        let [t1, t2] = loc.theta;
+        let nax = self.k_axial * loc.u;
+        let tor = self.k_torsion * (t2.x - t1.x);
+        let by = self.k_bend_y * Vector2::new(t1.y, t2.y);
+        let bz = self.k_bend_z * Vector2::new(t1.z, t2.z);
+        let energy = 0.5
+            * (nax * loc.u
+                + tor * (t2.x - t1.x)
+                + by.dot(&Vector2::new(t1.y, t2.y))
+                + bz.dot(&Vector2::new(t1.z, t2.z)));
+        (
+            nax,
+            [
+                Vector3::new(-tor, by.x, bz.x),
+                Vector3::new(tor, by.y, bz.y),
+            ],
+            energy,
+        )
+    }
+
+    /// Strain energy [J] of a configuration.
+    pub fn strain_energy(&self, n: &Nodes) -> f64 {
+        self.local_forces(&self.local(n)).2
+    }
+
+    /// Internal force `[f_1, M_1, f_2, M_2]` (forces global, moments conjugate to body spins),
+    /// written into `f`; returns the strain energy [J]. With `v_i = T_s⁻ᵀ(θ̄_i) n_i`,
+    /// `μ̄ = v_1 + v_2`, `ρ = q·e1/q·e2`:
+    /// `f_2 = −f_1 = N e1 + ((μ̄_2 + ρ μ̄_1) e3 − μ̄_3 e2)/l`,
+    /// `m_i = Rr v_i − (μ̄_1/(2 q·e2)) (q_i × e3)` (spatial), `M_i = R_iᵀ m_i`.
+    /// This is `Bᵀ f_l` of Battini & Pacoste 2002 written out; moment equilibrium
+    /// `m_1 + m_2 + (x2 − x1) × f_2 = 0` holds identically.
+    pub fn internal_force(&self, n: &Nodes, f: &mut Vec12) -> f64 {
+        self.internal(n, f, None)
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Tangent
+    // -----------------------------------------------------------------------------------------
+
+    /// Internal force and its exact derivative with respect to `[δx1, δW1, δx2, δW2]` (body
+    /// spins): material part `Bᵀ K_l B` and every geometric term (variation of the frame, of
+    /// `T_s⁻ᵀ`, of `q`, of the body-moment transformation), unsymmetrised. Returns the strain
+    /// energy.
+    pub fn internal_force_tangent(&self, n: &Nodes, f: &mut Vec12, k: &mut Mat12) -> f64 {
+        self.internal(n, f, Some(k))
+    }
+
+    fn internal(&self, n: &Nodes, f: &mut Vec12, k: Option<&mut Mat12>) -> f64 {
+        let loc = self.local(n);
+        let (nax, nl, energy) = self.local_forces(&loc);
+        let l = loc.l;
+        let e = [
+            loc.rr.column(0).into_owned(),
+            loc.rr.column(1).into_owned(),
+            loc.rr.column(2).into_owned(),
+        ];
+        let (q1, q2) = (loc.qm.x, loc.qm.y);
+        let rho = q1 / q2;
+        let (v0, lam0) = tangent_spatial_inv_t_apply(&loc.theta[0], &nl[0]);
+        let (v1, lam1) = tangent_spatial_inv_t_apply(&loc.theta[1], &nl[1]);
+        let v = [v0, v1];
+        let mu = v0 + v1;
+        let h = e[2] * (mu.y + mu.x * rho) - e[1] * mu.z;
+        let f2 = e[0] * nax + h / l;
+        let qxe3 = [loc.q[0].cross(&e[2]), loc.q[1].cross(&e[2])];
+        let ms = [
+            loc.rr * v[0] - qxe3[0] * (mu.x / (2.0 * q2)),
+            loc.rr * v[1] - qxe3[1] * (mu.x / (2.0 * q2)),
+        ];
+        let mb = [n.r[0].transpose() * ms[0], n.r[1].transpose() * ms[1]];
+        for c in 0..3 {
+            f[c] = -f2[c];
+            f[3 + c] = mb[0][c];
+            f[6 + c] = f2[c];
+            f[9 + c] = mb[1][c];
+        }
+        let Some(k) = k else {
+            return energy;
+        };
+
+        // Derivatives (3×12 or 1×12) with respect to δd = [δx1, δw1, δx2, δw2], spatial spins.
+        let put = |m: &mut M3x12, col: usize, blk: &Matrix3<f64>| {
+            m.fixed_view_mut::<3, 3>(0, col).copy_from(blk);
+        };
+        let row = |a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>, d: &Vector3<f64>| {
+            let mut r = R12::zeros();
+            for j in 0..3 {
+                r[j] = a[j];
+                r[3 + j] = b[j];
+                r[6 + j] = c[j];
+                r[9 + j] = d[j];
+            }
+            r
+        };
+        let z3 = Vector3::zeros();
+        let dl = row(&-e[0], &z3, &e[0], &z3);
+        let proj = (Matrix3::identity() - e[0] * e[0].transpose()) / l;
+        let mut de1 = M3x12::zeros();
+        put(&mut de1, 0, &-proj);
+        put(&mut de1, 6, &proj);
+        // Local components of the frame spin δw_r (Battini's Gᵀ).
+        let mut gloc = M3x12::zeros();
+        gloc.set_row(
+            0,
+            &(row(
+                &(e[2] * (q1 / l)),
+                &(qxe3[0] * 0.5),
+                &(e[2] * (-q1 / l)),
+                &(qxe3[1] * 0.5),
+            ) / q2),
+        );
+        gloc.set_row(1, &row(&(e[2] / l), &z3, &(-e[2] / l), &z3));
+        gloc.set_row(2, &row(&(-e[1] / l), &z3, &(e[1] / l), &z3));
+        let wr = loc.rr * gloc;
+        let de2 = -skew(&e[1]) * wr;
+        let de3 = -skew(&e[2]) * wr;
+        let mut dqi = [M3x12::zeros(); 2];
+        put(&mut dqi[0], 3, &-skew(&loc.q[0]));
+        put(&mut dqi[1], 9, &-skew(&loc.q[1]));
+        let dq = (dqi[0] + dqi[1]) * 0.5;
+        let qmean = 0.5 * (loc.q[0] + loc.q[1]);
+        let dq1 = e[0].transpose() * dq + qmean.transpose() * de1;
+        let dq2 = e[1].transpose() * dq + qmean.transpose() * de2;
+        let drho = (dq1 - dq2 * rho) / q2;
+        let rrt = loc.rr.transpose();
+        let mut dth = [M3x12::zeros(); 2];
+        for i in 0..2 {
+            let mut sel = -gloc;
+            let mut blk = sel.fixed_view_mut::<3, 3>(0, 6 * i + 3);
+            blk += rrt;
+            dth[i] = tangent_spatial_inv(&loc.theta[i]) * sel;
+        }
+        // Local forces' derivatives.
+        let dnax = dl * self.k_axial;
+        let dtor = (dth[1].row(0) - dth[0].row(0)) * self.k_torsion;
+        let mut dn = [M3x12::zeros(); 2];
+        dn[0].set_row(0, &-dtor);
+        dn[1].set_row(0, &dtor);
+        for (axis, kb) in [(1usize, &self.k_bend_y), (2usize, &self.k_bend_z)] {
+            let (a, b) = (dth[0].row(axis), dth[1].row(axis));
+            dn[0].set_row(axis, &(a * kb[(0, 0)] + b * kb[(0, 1)]));
+            dn[1].set_row(axis, &(a * kb[(1, 0)] + b * kb[(1, 1)]));
+        }
+        let lam = [lam0, lam1];
+        let mut dv = [M3x12::zeros(); 2];
+        for i in 0..2 {
+            dv[i] = lam[i] * dth[i] + tangent_spatial_inv(&loc.theta[i]).transpose() * dn[i];
+        }
+        let dmu = dv[0] + dv[1];
+        let dh = e[2] * (dmu.row(1) + dmu.row(0) * rho + drho * mu.x) + de3 * (mu.y + mu.x * rho)
+            - e[1] * dmu.row(2)
+            - de2 * mu.z;
+        let df2 = e[0] * dnax + de1 * nax - h * dl / (l * l) + dh / l;
+        let mut dms = [M3x12::zeros(); 2];
+        for i in 0..2 {
+            dms[i] =
+                loc.rr * dv[i] - skew(&(loc.rr * v[i])) * wr - qxe3[i] * dmu.row(0) / (2.0 * q2)
+                    + qxe3[i] * dq2 * (mu.x / (2.0 * q2 * q2))
+                    - (-skew(&e[2]) * dqi[i] + skew(&loc.q[i]) * de3) * (mu.x / (2.0 * q2));
+        }
+        // Rows: [−f2, R1ᵀ m1, f2, R2ᵀ m2]; columns: spatial spins → body spins (× R_j).
+        let mut ks = Mat12::zeros();
+        for c in 0..12 {
+            for r in 0..3 {
+                ks[(r, c)] = -df2[(r, c)];
+                ks[(6 + r, c)] = df2[(r, c)];
+            }
+        }
+        for i in 0..2 {
+            let rows = n.r[i].transpose() * dms[i];
+            ks.fixed_view_mut::<3, 12>(6 * i + 3, 0).copy_from(&rows);
+        }
+        for j in 0..2 {
+            let cols = ks.fixed_view::<12, 3>(0, 6 * j + 3) * n.r[j];
+            ks.fixed_view_mut::<12, 3>(0, 6 * j + 3).copy_from(&cols);
+        }
+        for i in 0..2 {
+            let mut blk = ks.fixed_view_mut::<3, 3>(6 * i + 3, 6 * i + 3);
+            blk += skew(&mb[i]);
+        }
+        *k = ks;
+        energy
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::elements::rotation::{exp_so3, tangent_body};
+
+    fn section() -> BeamSection {
+        BeamSection {
+            ea: 2.0e6,
+            ga_y: 8.0e5,
+            ga_z: 6.0e5,
+            gj: 3.0e3,
+            ei_y: 5.0e3,
+            ei_z: 8.0e3,
+            rho_a: 7.0,
+            rho_jx: 0.03,
+            rho_iy: 0.01,
+            rho_iz: 0.02,
+        }
+    }
+
+    /// An element of length 0.7 along a skew direction.
+    fn element(theory: Theory, mass: MassModel) -> (Corot3d, Nodes) {
+        let x1 = Vector3::new(0.2, -0.1, 0.3);
+        let x2 = x1 + Vector3::new(0.4, 0.5, 0.3).normalize() * 0.7;
+        let r0 = reference_frame(&x1, &x2, &Vector3::new(0.1, 0.2, 1.0)).unwrap();
+        let el = Corot3d::new(0.7, r0, &section(), theory, mass);
+        (
+            el,
+            Nodes {
+                x: [x1, x2],
+                r: [Matrix3::identity(); 2],
+            },
+        )
+    }
+
+    /// A large deformed configuration (local rotations of a few tenths of a radian, on top
+    /// of a large rigid rotation).
+    fn deformed(n0: &Nodes) -> Nodes {
+        let q = exp_so3(&Vector3::new(1.3, -2.1, 0.8));
+        let t = Vector3::new(0.3, 1.0, -2.0);
+        Nodes {
+            x: [
+                q * n0.x[0] + t,
+                q * (n0.x[1] + Vector3::new(0.01, -0.03, 0.02)) + t,
+            ],
+            r: [
+                q * exp_so3(&Vector3::new(0.1, -0.2, 0.15)),
+                q * exp_so3(&Vector3::new(-0.12, 0.25, 0.05)),
+            ],
+        }
+    }
+
+    fn perturbed(n: &Nodes, j: usize, eps: f64) -> Nodes {
+        let mut p = *n;
+        let node = j / 6;
+        let comp = j % 6;
+        if comp < 3 {
+            p.x[node][comp] += eps;
+        } else {
+            let mut w = Vector3::zeros();
+            w[comp - 3] = eps;
+            p.r[node] = n.r[node] * exp_so3(&w);
+        }
+        p
+    }
+
+    fn theories() -> [Theory; 2] {
+        [Theory::EulerBernoulli, Theory::Timoshenko]
+    }
+
+    /// Hermite basis: partition of unity, end values and the mid-point weights.
+    #[test]
+    fn hermite_basis() {
+        let h0 = hermite(0.0);
+        let h1 = hermite(1.0);
+        assert_eq!(h0, [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(h1, [0.0, 0.0, 1.0, 0.0]);
+        assert_eq!(hermite(0.5), [0.5, 0.125, 0.5, -0.125]);
+        for xi in [0.1, 0.37, 0.8] {
+            let h = hermite(xi);
+            assert!((h[0] + h[2] - 1.0).abs() < 1e-15);
+            // reproduces a straight line: y = ξ when x1 = 0, x2 = 1, t = 1
+            assert!((h[2] + h[1] + h[3] - xi).abs() < 1e-15);
+        }
+    }
+
+    /// Zero strain and zero internal force in the reference configuration and under rigid
+    /// motions of any size: rotation angles beyond 2π included (a rotation of 2π + 1 rad is
+    /// the same matrix as 1 rad, so the element cannot tell them apart).
+    #[test]
+    fn rigid_motion_is_strain_free() {
+        for th in theories() {
+            let (el, n0) = element(th, MassModel::Lumped);
+            for (axis, angle) in [
+                (Vector3::new(0.0, 0.0, 1.0), 0.0),
+                (Vector3::new(1.0, 2.0, -0.5), 1.0),
+                (Vector3::new(0.3, -0.4, 0.8), std::f64::consts::PI),
+                (
+                    Vector3::new(-1.0, 0.2, 0.1),
+                    2.0 * std::f64::consts::PI + 1.0,
+                ),
+                (Vector3::new(0.5, 0.5, -0.7), 7.5 * std::f64::consts::PI),
+            ] {
+                let q = exp_so3(&(axis.normalize() * angle));
+                let t = Vector3::new(10.0, -3.0, 2.0);
+                let n = Nodes {
+                    x: [q * n0.x[0] + t, q * n0.x[1] + t],
+                    r: [q, q],
+                };
+                let mut f = Vec12::zeros();
+                let u = el.internal_force(&n, &mut f);
+                assert!(u.abs() < 1e-18, "U = {u} at angle {angle}");
+                assert!(f.norm() < 1e-8, "|f| = {} at angle {angle}", f.norm());
+                let loc = el.local(&n);
+                assert!(loc.u.abs() < 1e-14);
+                assert!(loc.theta[0].norm() < 1e-12 && loc.theta[1].norm() < 1e-12);
+            }
+        }
+    }
+
+    /// The force is the gradient of the strain energy along position perturbations and body
+    /// spins.
+    #[test]
+    fn force_matches_energy_gradient() {
+        for th in theories() {
+            let (el, n0) = element(th, MassModel::Lumped);
+            let n = deformed(&n0);
+            let mut f = Vec12::zeros();
+            el.internal_force(&n, &mut f);
+            let h = 1e-6;
+            for j in 0..12 {
+                let up = el.strain_energy(&perturbed(&n, j, h));
+                let um = el.strain_energy(&perturbed(&n, j, -h));
+                let fd = (up - um) / (2.0 * h);
+                assert!(
+                    (fd - f[j]).abs() <= 1e-6 * f.norm(),
+                    "{th:?} dof {j}: {fd} vs {}",
+                    f[j]
+                );
+            }
+        }
+    }
+
+    /// Force and moment balance of the internal force for any configuration.
+    #[test]
+    fn internal_force_is_self_equilibrated() {
+        let (el, n0) = element(Theory::Timoshenko, MassModel::Lumped);
+        let n = deformed(&n0);
+        let mut f = Vec12::zeros();
+        el.internal_force(&n, &mut f);
+        let f1 = Vector3::new(f[0], f[1], f[2]);
+        let f2 = Vector3::new(f[6], f[7], f[8]);
+        let m1 = n.r[0] * Vector3::new(f[3], f[4], f[5]);
+        let m2 = n.r[1] * Vector3::new(f[9], f[10], f[11]);
+        assert!((f1 + f2).norm() < 1e-10 * f.norm());
+        let mom = m1 + m2 + n.x[0].cross(&f1) + n.x[1].cross(&f2);
+        assert!(mom.norm() < 1e-9 * f.norm(), "{mom:?}");
+    }
+
+    /// The tangent against central differences of the force (positions and body spins), at
+    /// the reference and at a large deformed configuration.
+    #[test]
+    fn tangent_matches_finite_differences() {
+        for th in theories() {
+            let (el, n0) = element(th, MassModel::Lumped);
+            for n in [n0, deformed(&n0)] {
+                let mut f = Vec12::zeros();
+                let mut k = Mat12::zeros();
+                el.internal_force_tangent(&n, &mut f, &mut k);
+                let h = 1e-7;
+                let mut fd = Mat12::zeros();
+                for j in 0..12 {
+                    let (mut fp, mut fm) = (Vec12::zeros(), Vec12::zeros());
+                    el.internal_force(&perturbed(&n, j, h), &mut fp);
+                    el.internal_force(&perturbed(&n, j, -h), &mut fm);
+                    fd.set_column(j, &((fp - fm) / (2.0 * h)));
+                }
+                let err = (fd - k).norm() / k.norm();
+                assert!(err < 1e-7, "{th:?}: relative tangent error {err}");
+            }
+        }
+    }
+
+    /// Small deflections of a single element equal the classical beam element: tip force P on
+    /// a cantilever gives `P L³/(3EI) (+ P L/GA for Timoshenko)`, tip moment `M L²/(2EI)`,
+    /// axial `P L/EA`, torsion `T L/GJ`.
+    #[test]
+    fn linear_response_of_one_element() {
+        let s = section();
+        let l0 = 0.7;
+        for th in theories() {
+            let el = Corot3d::new(l0, Matrix3::identity(), &s, th, MassModel::Lumped);
+            let n = Nodes {
+                x: [Vector3::zeros(), Vector3::new(l0, 0.0, 0.0)],
+                r: [Matrix3::identity(); 2],
+            };
+            let mut f = Vec12::zeros();
+            let mut k = Mat12::zeros();
+            el.internal_force_tangent(&n, &mut f, &mut k);
+            let kff = k.fixed_view::<6, 6>(6, 6).into_owned();
+            let c = kff.try_inverse().unwrap();
+            let shear = |ga: f64| {
+                if th == Theory::Timoshenko {
+                    l0 / ga
+                } else {
+                    0.0
+                }
+            };
+            let l3 = l0 * l0 * l0;
+            let expect = [
+                (0, 0, l0 / s.ea),
+                (1, 1, l3 / (3.0 * s.ei_z) + shear(s.ga_y)),
+                (2, 2, l3 / (3.0 * s.ei_y) + shear(s.ga_z)),
+                (3, 3, l0 / s.gj),
+                (1, 5, l0 * l0 / (2.0 * s.ei_z)),
+                (2, 4, -l0 * l0 / (2.0 * s.ei_y)),
+                (5, 5, l0 / s.ei_z),
+            ];
+            for (i, j, v) in expect {
+                assert!(
+                    (c[(i, j)] - v).abs() < 1e-9 * v.abs(),
+                    "{th:?} flexibility ({i},{j}) = {} vs {v}",
+                    c[(i, j)]
+                );
+            }
+        }
+    }
+
+    /// Total mass and the rigid-body inertia of a straight element are exact for both mass
+    /// models: the kinetic energy of any rigid motion (v, ω) about any current orientation is
+    /// `½ m |v_c|² + ½ ωᵀ J ω` with `J = m l²/12 (I − t tᵀ) + l Q R0 J_sec R0ᵀ Qᵀ`.
+    #[test]
+    fn rigid_body_inertia_is_exact() {
+        let s = section();
+        for mass in [MassModel::Lumped, MassModel::Consistent] {
+            let (el, n0) = element(Theory::Timoshenko, mass);
+            let l = el.length();
+            let m = s.rho_a * l;
+            let q = exp_so3(&Vector3::new(-0.4, 2.2, 1.9));
+            let n = Nodes {
+                x: [q * n0.x[0], q * n0.x[1]],
+                r: [q, q],
+            };
+            let mm = el.mass_matrix(&n);
+            let mut total = 0.0;
+            for i in [0, 6] {
+                for j in [0, 6] {
+                    total += mm[(i, j)];
+                }
+            }
+            assert!(
+                (total - m).abs() < 1e-13 * m,
+                "{mass:?}: total mass {total}"
+            );
+            let xc = 0.5 * (n.x[0] + n.x[1]);
+            let t = (n.x[1] - n.x[0]) / l;
+            let js = Matrix3::from_diagonal(&Vector3::new(s.rho_jx, s.rho_iy, s.rho_iz));
+            let jrig = (Matrix3::identity() - t * t.transpose()) * (m * l * l / 12.0)
+                + q * el.reference_frame()
+                    * js
+                    * el.reference_frame().transpose()
+                    * q.transpose()
+                    * l;
+            for (vc, w) in [
+                (Vector3::new(1.0, -2.0, 0.5), Vector3::zeros()),
+                (Vector3::zeros(), Vector3::new(0.3, 1.1, -0.7)),
+                (Vector3::new(0.2, 0.1, -0.3), Vector3::new(-2.0, 0.4, 0.9)),
+            ] {
+                let v = Rates {
+                    x: [vc + w.cross(&(n.x[0] - xc)), vc + w.cross(&(n.x[1] - xc))],
+                    w: [q.transpose() * w, q.transpose() * w],
+                };
+                let ke = el.kinetic_energy(&n, &v);
+                let exact = 0.5 * m * vc.norm_squared() + 0.5 * w.dot(&(jrig * w));
+                assert!(
+                    (ke - exact).abs() < 1e-12 * exact,
+                    "{mass:?}: {ke} vs {exact}"
+                );
+            }
+        }
+    }
+
+    /// The kinetic energy is ½ vᵀ M v, and the inertia force is consistent with it: its power
+    /// equals dT/dt along a motion (checked with central differences in time), which tests
+    /// the convective terms.
+    #[test]
+    fn inertia_force_power_is_kinetic_energy_rate() {
+        for mass in [MassModel::Lumped, MassModel::Consistent] {
+            let (el, n0) = element(Theory::EulerBernoulli, mass);
+            let n = deformed(&n0);
+            let vv = Vec12::from_column_slice(&[
+                0.3, -0.2, 0.5, 1.5, -0.7, 2.0, -0.1, 0.4, 0.2, -1.0, 0.8, 1.7,
+            ]);
+            let av = Vec12::from_column_slice(&[
+                1.0, 0.5, -0.3, -2.0, 0.6, 0.9, 0.2, -0.8, 0.6, 1.3, -0.4, 0.7,
+            ]);
+            let (v, a) = (Rates::from_vec(&vv), Rates::from_vec(&av));
+            let mm = el.mass_matrix(&n);
+            let t = el.kinetic_energy(&n, &v);
+            assert!((t - 0.5 * vv.dot(&(mm * vv))).abs() < 1e-12 * t);
+            let mut f = Vec12::zeros();
+            el.inertia_force(&n, &v, &a, &Vector3::zeros(), &mut f, None);
+            // Motion: x(s) = x + s ẋ + ½ s² ẍ, R(s) = R exp(s Ω + ½ s² Ω̇), v(s) = v + s a.
+            let at = |s: f64| {
+                let mut p = n;
+                let mut r = v;
+                for i in 0..2 {
+                    p.x[i] = n.x[i] + v.x[i] * s + a.x[i] * (0.5 * s * s);
+                    p.r[i] = n.r[i] * exp_so3(&(v.w[i] * s + a.w[i] * (0.5 * s * s)));
+                    r.x[i] = v.x[i] + a.x[i] * s;
+                    r.w[i] = v.w[i] + a.w[i] * s;
+                }
+                el.kinetic_energy(&p, &r)
+            };
+            let h = 1e-5;
+            let dtdt = (at(h) - at(-h)) / (2.0 * h);
+            let power = f.dot(&vv);
+            assert!(
+                (dtdt - power).abs() < 1e-7 * power.abs().max(1.0),
+                "{mass:?}: dT/dt {dtdt} vs power {power}"
+            );
+        }
+    }
+
+    /// Lagrange's equations in body coordinates: the inertia force equals
+    /// `d/dt(∂T/∂v) − ∂T/∂(x, W)` (the Euler–Poincaré form), with all derivatives by central
+    /// differences of the kinetic energy. Checks every convective term individually.
+    #[test]
+    fn inertia_force_matches_lagrange_equations() {
+        for mass in [MassModel::Lumped, MassModel::Consistent] {
+            let (el, n0) = element(Theory::Timoshenko, mass);
+            let n = deformed(&n0);
+            let vv = Vec12::from_column_slice(&[
+                0.3, -0.2, 0.5, 1.5, -0.7, 2.0, -0.1, 0.4, 0.2, -1.0, 0.8, 1.7,
+            ]);
+            let av = Vec12::from_column_slice(&[
+                1.0, 0.5, -0.3, -2.0, 0.6, 0.9, 0.2, -0.8, 0.6, 1.3, -0.4, 0.7,
+            ]);
+            let (v, a) = (Rates::from_vec(&vv), Rates::from_vec(&av));
+            let mut f = Vec12::zeros();
+            el.inertia_force(&n, &v, &a, &Vector3::zeros(), &mut f, None);
+            // p = ∂T/∂v = M(q) v; d/dt along the motion; ∂T/∂q along body spins with v fixed.
+            let momentum = |nn: &Nodes, vel: &Vec12| el.mass_matrix(nn) * vel;
+            let h = 1e-5;
+            let step = |s: f64| {
+                let mut p = n;
+                for i in 0..2 {
+                    p.x[i] = n.x[i] + v.x[i] * s;
+                    p.r[i] = n.r[i] * exp_so3(&(v.w[i] * s));
+                }
+                p
+            };
+            let pdot = (momentum(&step(h), &(vv + av * h)) - momentum(&step(-h), &(vv - av * h)))
+                / (2.0 * h);
+            let mut dtdq = Vec12::zeros();
+            for j in 0..12 {
+                let tp = el.kinetic_energy(&perturbed(&n, j, h), &v);
+                let tm = el.kinetic_energy(&perturbed(&n, j, -h), &v);
+                dtdq[j] = (tp - tm) / (2.0 * h);
+            }
+            // Body angular velocities: d/dt(∂T/∂Ω) + Ω × ∂T/∂Ω − ∂T/∂W (Euler–Poincaré).
+            let mut lag = pdot - dtdq;
+            let p = momentum(&n, &vv);
+            for i in 0..2 {
+                let pw = Vector3::new(p[6 * i + 3], p[6 * i + 4], p[6 * i + 5]);
+                let c = v.w[i].cross(&pw);
+                for k in 0..3 {
+                    lag[6 * i + 3 + k] += c[k];
+                }
+            }
+            let err = (lag - f).norm() / f.norm();
+            assert!(err < 1e-7, "{mass:?}: relative error {err}\n{lag}\n{f}");
+        }
+    }
+
+    /// Mass, gyroscopic and configuration derivatives of the inertia force (with gravity)
+    /// against central differences.
+    #[test]
+    fn inertia_derivatives_match_finite_differences() {
+        let g = Vector3::new(0.5, -9.81, 2.0);
+        for mass in [MassModel::Lumped, MassModel::Consistent] {
+            let (el, n0) = element(Theory::EulerBernoulli, mass);
+            let n = deformed(&n0);
+            let vv = Vec12::from_column_slice(&[
+                0.3, -0.2, 0.5, 1.5, -0.7, 2.0, -0.1, 0.4, 0.2, -1.0, 0.8, 1.7,
+            ]);
+            let av = Vec12::from_column_slice(&[
+                1.0, 0.5, -0.3, -2.0, 0.6, 0.9, 0.2, -0.8, 0.6, 1.3, -0.4, 0.7,
+            ]);
+            let force = |nn: &Nodes, v: &Vec12, a: &Vec12| {
+                let mut f = Vec12::zeros();
+                el.inertia_force(
+                    nn,
+                    &Rates::from_vec(v),
+                    &Rates::from_vec(a),
+                    &g,
+                    &mut f,
+                    None,
+                );
+                f
+            };
+            let mut mm = Mat12::zeros();
+            let mut cc = Mat12::zeros();
+            let mut kk = Mat12::zeros();
+            let mut f = Vec12::zeros();
+            let mut dummy = Mat12::zeros();
+            let (v, a) = (Rates::from_vec(&vv), Rates::from_vec(&av));
+            el.inertia_force(&n, &v, &a, &g, &mut f, Some((1.0, 0.0, &mut mm, &mut kk)));
+            el.inertia_force(
+                &n,
+                &v,
+                &a,
+                &g,
+                &mut f,
+                Some((0.0, 1.0, &mut cc, &mut dummy)),
+            );
+            let h = 1e-6;
+            let (mut fdm, mut fdc, mut fdk) = (Mat12::zeros(), Mat12::zeros(), Mat12::zeros());
+            for j in 0..12 {
+                let mut e = Vec12::zeros();
+                e[j] = h;
+                fdm.set_column(
+                    j,
+                    &((force(&n, &vv, &(av + e)) - force(&n, &vv, &(av - e))) / (2.0 * h)),
+                );
+                fdc.set_column(
+                    j,
+                    &((force(&n, &(vv + e), &av) - force(&n, &(vv - e), &av)) / (2.0 * h)),
+                );
+                fdk.set_column(
+                    j,
+                    &((force(&perturbed(&n, j, h), &vv, &av)
+                        - force(&perturbed(&n, j, -h), &vv, &av))
+                        / (2.0 * h)),
+                );
+            }
+            for (name, fd, an) in [("M", fdm, mm), ("C", fdc, cc), ("K", fdk, kk)] {
+                let err = (fd - an).norm() / an.norm();
+                assert!(err < 1e-7, "{mass:?} {name}: relative error {err}");
+            }
+            assert!((mm - mm.transpose()).norm() < 1e-14 * mm.norm());
+        }
+    }
+
+    /// The lumped mid-point is the centre-line point of the Hermite interpolation at ξ = ½,
+    /// which to first order is the co-rotated cubic: `x_mid = ½(x1 + x2) + Rr (l0/8)
+    /// [0, θ̄_1z − θ̄_2z, −(θ̄_1y − θ̄_2y)]` (reference B.4).
+    #[test]
+    fn mid_point_matches_corotated_cubic() {
+        let (el, n0) = element(Theory::EulerBernoulli, MassModel::Lumped);
+        let q = exp_so3(&Vector3::new(0.4, 0.9, -1.2));
+        for eps in [1e-2, 1e-3, 1e-4] {
+            let n = Nodes {
+                x: [q * n0.x[0], q * n0.x[1]],
+                r: [
+                    q * exp_so3(&(Vector3::new(0.2, -0.5, 0.7) * eps)),
+                    q * exp_so3(&(Vector3::new(-0.3, 0.4, 0.1) * eps)),
+                ],
+            };
+            let loc = el.local(&n);
+            let [t1, t2] = loc.theta;
+            let cubic = 0.5 * (n.x[0] + n.x[1])
+                + loc.rr * Vector3::new(0.0, t1.z - t2.z, -(t1.y - t2.y)) * (el.length() / 8.0);
+            let offset = (cubic - 0.5 * (n.x[0] + n.x[1])).norm();
+            let err = (cubic - el.centre_line(&n, 0.5)).norm();
+            // first-order offset, second-order difference
+            assert!(offset > 0.05 * eps * el.length(), "offset {offset}");
+            assert!(
+                err < eps * offset,
+                "eps {eps}: difference {err} vs offset {offset}"
+            );
+        }
+    }
+
+    /// Chain to incremental rotation vectors: with `R = R_ref exp(θ̃)`, the derivative with
+    /// respect to θ is the body-spin tangent times `T(θ)`.
+    #[test]
+    fn chain_to_rotation_vectors() {
+        let (el, n0) = element(Theory::Timoshenko, MassModel::Lumped);
+        let n = deformed(&n0);
+        let theta = [Vector3::new(0.5, -1.2, 2.0), Vector3::new(-0.1, 0.3, 0.2)];
+        let at = |th: [Vector3<f64>; 2]| Nodes {
+            x: n.x,
+            r: [n.r[0] * exp_so3(&th[0]), n.r[1] * exp_so3(&th[1])],
+        };
+        let cur = at(theta);
+        let mut f = Vec12::zeros();
+        let mut k = Mat12::zeros();
+        el.internal_force_tangent(&cur, &mut f, &mut k);
+        let h = 1e-7;
+        for node in 0..2 {
+            let t = tangent_body(&theta[node]);
+            let chained = k.fixed_view::<12, 3>(0, 6 * node + 3) * t;
+            for c in 0..3 {
+                let (mut tp, mut tm) = (theta, theta);
+                tp[node][c] += h;
+                tm[node][c] -= h;
+                let (mut fp, mut fm) = (Vec12::zeros(), Vec12::zeros());
+                el.internal_force(&at(tp), &mut fp);
+                el.internal_force(&at(tm), &mut fm);
+                let fd = (fp - fm) / (2.0 * h);
+                let err = (fd - chained.column(c)).norm() / k.norm();
+                assert!(err < 1e-7, "node {node} component {c}: {err}");
+            }
+        }
+    }
+}

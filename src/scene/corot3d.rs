@@ -1,0 +1,381 @@
+//! Scene kind "3D beam" (seed-003 co-rotational elements): required tables, centre line,
+//! supports, loads, probes, parameters, inputs and outputs.
+
+use super::file::{ProbeQuantity, SceneFile, SupportKind};
+use super::params::{Check, ParamDef, int_param, names::MESH_N_ELEMENTS};
+use super::validate::is_identifier;
+use crate::variables::{EnergyKind, InputKind, IoVariable, OutputKind, Value};
+use std::collections::BTreeSet;
+
+/// Parameter names of the 3D beam (public interface: never rename silently).
+pub mod names {
+    /// Axial stiffness [N].
+    pub const SECTION_EA: &str = "section.EA";
+    /// Shear stiffness along local y [N].
+    pub const SECTION_GAY: &str = "section.GAy";
+    /// Shear stiffness along local z [N].
+    pub const SECTION_GAZ: &str = "section.GAz";
+    /// Torsional stiffness [N m2].
+    pub const SECTION_GJ: &str = "section.GJ";
+    /// Bending stiffness about local y [N m2].
+    pub const SECTION_EIY: &str = "section.EIy";
+    /// Bending stiffness about local z [N m2].
+    pub const SECTION_EIZ: &str = "section.EIz";
+    /// Mass per length [kg/m].
+    pub const SECTION_RHOA: &str = "section.rhoA";
+    /// Polar rotary inertia per length [kg m].
+    pub const SECTION_RHOJX: &str = "section.rhoJx";
+    /// Rotary inertia per length about local y [kg m].
+    pub const SECTION_RHOIY: &str = "section.rhoIy";
+    /// Rotary inertia per length about local z [kg m].
+    pub const SECTION_RHOIZ: &str = "section.rhoIz";
+    /// Local beam theory (Integer: 1 = Euler–Bernoulli, 2 = Timoshenko).
+    pub const ELEMENT_THEORY: &str = "element.theory";
+    /// Mass model (Integer: 1 = three lumped masses, 2 = consistent).
+    pub const ELEMENT_MASS: &str = "element.mass";
+}
+
+use names::*;
+
+fn finite3(v: &[f64; 3]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+fn norm3(v: &[f64; 3]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Problems of a 3D-beam scene: required tables, centre line, supports, loads, probes.
+pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
+    let mut errs = Vec::new();
+    for (name, present) in [
+        ("mesh", s.mesh.is_some()),
+        ("section", s.section.is_some()),
+        ("centreline", s.centreline.is_some()),
+    ] {
+        if !present {
+            errs.push(format!(
+                "[{name}]: required for element type \"corotational_3d\""
+            ));
+        }
+    }
+    for (name, present) in [
+        ("geometry", s.geometry.is_some()),
+        ("material", s.material.is_some()),
+    ] {
+        if present {
+            errs.push(format!(
+                "[{name}]: not used by element type \"corotational_3d\" (give [section] and [centreline])"
+            ));
+        }
+    }
+    if let Some(c) = &s.centreline {
+        if !finite3(&c.start) {
+            errs.push("centreline.start: must be finite numbers".into());
+        }
+        if let Some(z) = &c.section_z {
+            if !finite3(z) || norm3(z) == 0.0 {
+                errs.push("centreline.section_z: must be a finite non-zero vector".into());
+            }
+        }
+        if c.segments.is_empty() {
+            errs.push("centreline.segments: give at least one piece".into());
+        }
+        for (i, seg) in c.segments.iter().enumerate() {
+            let key = format!("centreline.segments[{i}]");
+            match &seg.direction {
+                Some(d) if !finite3(d) || norm3(d) == 0.0 => {
+                    errs.push(format!("{key}.direction: must be a finite non-zero vector"))
+                }
+                None if i == 0 => errs.push(format!(
+                    "{key}.direction: required for the first piece (the start tangent)"
+                )),
+                _ => {}
+            }
+            let arc = seg.radius.is_some() || seg.angle_deg.is_some() || seg.bend_axis.is_some();
+            match (seg.length, arc) {
+                (Some(l), false) => {
+                    if !(l.is_finite() && l > 0.0) {
+                        errs.push(format!("{key}.length = {l}: must be positive"));
+                    }
+                }
+                (None, true) => {
+                    match seg.radius {
+                        Some(r) if r.is_finite() && r > 0.0 => {}
+                        _ => errs.push(format!("{key}.radius: an arc needs a positive radius")),
+                    }
+                    match seg.angle_deg {
+                        Some(a) if a.is_finite() && a > 0.0 && a <= 360.0 => {}
+                        _ => errs.push(format!(
+                            "{key}.angle_deg: an arc needs an angle in (0, 360] degrees"
+                        )),
+                    }
+                    match &seg.bend_axis {
+                        Some(b) if finite3(b) && norm3(b) > 0.0 => {}
+                        _ => errs.push(format!(
+                            "{key}.bend_axis: an arc needs the (non-zero) axis its tangent turns about"
+                        )),
+                    }
+                }
+                (Some(_), true) => errs.push(format!(
+                    "{key}: give either length (straight piece) or radius, angle_deg and bend_axis (arc), not both"
+                )),
+                (None, false) => errs.push(format!(
+                    "{key}: give length (straight piece) or radius, angle_deg and bend_axis (arc)"
+                )),
+            }
+        }
+    }
+    let at_ok = |key: String, at: f64, errs: &mut Vec<String>| {
+        if !(0.0..=1.0).contains(&at) {
+            errs.push(format!(
+                "{key}.at = {at}: must lie in [0, 1] (a fraction of the centre-line length)"
+            ));
+        }
+    };
+    let name_ok = |key: String, name: &str, errs: &mut Vec<String>| {
+        if !is_identifier(name) {
+            errs.push(format!(
+                "{key}.name = \"{name}\": must start with a letter and contain only letters, digits and '_'"
+            ));
+        }
+    };
+    for (i, sup) in s.supports.iter().enumerate() {
+        let key = format!("supports[{i}]");
+        at_ok(key.clone(), sup.at, &mut errs);
+        if sup.kind == SupportKind::Roller || sup.fixed.is_some() {
+            errs.push(format!(
+                "{key}: 3D beams support kind = \"clamp\" (position and orientation fixed) or \"pin\" (position fixed)"
+            ));
+        }
+    }
+    for (i, l) in s.loads.iter().enumerate() {
+        let key = format!("loads[{i}]");
+        name_ok(key.clone(), &l.name, &mut errs);
+        at_ok(key.clone(), l.at, &mut errs);
+        if ![l.fx, l.fy, l.fz, l.mx, l.my, l.mz]
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            errs.push(format!("{key}: fx, fy, fz, mx, my, mz must be finite"));
+        }
+    }
+    for (i, p) in s.probes.iter().enumerate() {
+        let key = format!("probes[{i}]");
+        name_ok(key.clone(), &p.name, &mut errs);
+        at_ok(key.clone(), p.at, &mut errs);
+        if p.outputs.is_empty() {
+            errs.push(format!(
+                "{key}.outputs: empty; list at least one of x, y, z, vx, vy, vz, rx, ry, rz, tx, ty, tz, wx, wy, wz"
+            ));
+        }
+        let mut seen = BTreeSet::new();
+        for q in &p.outputs {
+            if !seen.insert(format!("{q:?}")) {
+                errs.push(format!("{key}.outputs: {q:?} listed twice"));
+            }
+        }
+    }
+    if errs.is_empty() { Ok(()) } else { Err(errs) }
+}
+
+/// Parameters of a 3D-beam scene (the tables exist: [`check`] passed).
+pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
+    let (sec, mesh) = (
+        s.section.as_ref().ok_or("[section] missing")?,
+        s.mesh.as_ref().ok_or("[mesh] missing")?,
+    );
+    let real = |v: f64| Value::Real(v);
+    let p =
+        |name, v, unit, what: &str, check| ParamDef::new(name, real(v), Some(unit), what, check);
+    Ok(vec![
+        p(
+            SECTION_EA,
+            sec.EA,
+            "N",
+            "Axial stiffness EA",
+            Check::Positive,
+        ),
+        p(
+            SECTION_GAY,
+            sec.GAy,
+            "N",
+            "Shear stiffness k G A for deflection along local y (Timoshenko theory)",
+            Check::Positive,
+        ),
+        p(
+            SECTION_GAZ,
+            sec.GAz,
+            "N",
+            "Shear stiffness k G A for deflection along local z (Timoshenko theory)",
+            Check::Positive,
+        ),
+        p(
+            SECTION_GJ,
+            sec.GJ,
+            "N.m2",
+            "Torsional stiffness GJ",
+            Check::Positive,
+        ),
+        p(
+            SECTION_EIY,
+            sec.EIy,
+            "N.m2",
+            "Bending stiffness about local y (deflection along local z)",
+            Check::Positive,
+        ),
+        p(
+            SECTION_EIZ,
+            sec.EIz,
+            "N.m2",
+            "Bending stiffness about local z (deflection along local y)",
+            Check::Positive,
+        ),
+        p(
+            SECTION_RHOA,
+            sec.rhoA,
+            "kg/m",
+            "Mass per length",
+            Check::Positive,
+        ),
+        p(
+            SECTION_RHOJX,
+            sec.rhoJx,
+            "kg.m",
+            "Polar rotary inertia per length (rho J; at most rhoIy + rhoIz)",
+            Check::Positive,
+        ),
+        p(
+            SECTION_RHOIY,
+            sec.rhoIy,
+            "kg.m",
+            "Rotary inertia per length about local y (rho I_y)",
+            Check::NonNegative,
+        ),
+        p(
+            SECTION_RHOIZ,
+            sec.rhoIz,
+            "kg.m",
+            "Rotary inertia per length about local z (rho I_z)",
+            Check::NonNegative,
+        ),
+        ParamDef::new(
+            MESH_N_ELEMENTS,
+            Value::Integer(int_param(mesh.n_elements, MESH_N_ELEMENTS)?),
+            None,
+            "Number of elements along the whole centre line (shared among its pieces by length)",
+            Check::IntRange(1, 100_000),
+        ),
+        ParamDef::new(
+            ELEMENT_THEORY,
+            Value::Integer(s.element.theory.unwrap_or(2)),
+            None,
+            "Local beam theory: 1 = Euler-Bernoulli, 2 = Timoshenko",
+            Check::IntRange(1, 2),
+        ),
+        ParamDef::new(
+            ELEMENT_MASS,
+            Value::Integer(s.element.mass.unwrap_or(1)),
+            None,
+            "Inertia: 1 = three lumped masses per element (ends and mid-point), 2 = consistent",
+            Check::IntRange(1, 2),
+        ),
+    ])
+}
+
+/// Inputs (force and moment components of the loads) and outputs (probe quantities,
+/// energies) of a 3D-beam scene.
+pub fn io(s: &SceneFile) -> Vec<IoVariable> {
+    let mut out = Vec::new();
+    for (i, l) in s.loads.iter().enumerate() {
+        let how = if l.follower {
+            "follower: global components in the reference configuration, rotating with the node"
+        } else {
+            "fixed direction"
+        };
+        let starts = [l.fx, l.fy, l.fz, l.mx, l.my, l.mz];
+        for (k, comp) in ["fx", "fy", "fz", "mx", "my", "mz"].into_iter().enumerate() {
+            let axis = ["x", "y", "z"][k % 3];
+            let (unit, what, kind) = if k < 3 {
+                ("N", "Force", InputKind::Load { load: i, axis: k })
+            } else {
+                (
+                    "N.m",
+                    "Moment",
+                    InputKind::Moment {
+                        load: i,
+                        axis: k - 3,
+                    },
+                )
+            };
+            out.push(IoVariable::input(
+                format!("{}.{comp}", l.name),
+                starts[k],
+                unit,
+                format!(
+                    "{what} about/along {axis} at {} of the centre-line length ({how})",
+                    l.at
+                ),
+                kind,
+            ));
+        }
+    }
+    for (i, p) in s.probes.iter().enumerate() {
+        for q in &p.outputs {
+            let (suffix, unit, what) = match q {
+                ProbeQuantity::X => ("x", "m", "Position x"),
+                ProbeQuantity::Y => ("y", "m", "Position y"),
+                ProbeQuantity::Z => ("z", "m", "Position z"),
+                ProbeQuantity::Vx => ("vx", "m/s", "Velocity x"),
+                ProbeQuantity::Vy => ("vy", "m/s", "Velocity y"),
+                ProbeQuantity::Vz => ("vz", "m/s", "Velocity z"),
+                ProbeQuantity::Rx => (
+                    "rx",
+                    "rad",
+                    "Rotation vector from the reference orientation (principal value, |r| <= pi), x",
+                ),
+                ProbeQuantity::Ry => ("ry", "rad", "Rotation vector (principal value), y"),
+                ProbeQuantity::Rz => ("rz", "rad", "Rotation vector (principal value), z"),
+                ProbeQuantity::Tx => ("tx", "1", "Beam axis direction cosine with x"),
+                ProbeQuantity::Ty => ("ty", "1", "Beam axis direction cosine with y"),
+                ProbeQuantity::Tz => ("tz", "1", "Beam axis direction cosine with z"),
+                ProbeQuantity::Wx => ("wx", "rad/s", "Angular velocity, global x"),
+                ProbeQuantity::Wy => ("wy", "rad/s", "Angular velocity, global y"),
+                ProbeQuantity::Wz => ("wz", "rad/s", "Angular velocity, global z"),
+            };
+            out.push(IoVariable::output(
+                format!("{}.{suffix}", p.name),
+                unit,
+                format!("{what} of the node at {} of the centre-line length", p.at),
+                OutputKind::Probe {
+                    probe: i,
+                    quantity: *q,
+                },
+            ));
+        }
+    }
+    if s.outputs.energy {
+        for (kind, name, what) in [
+            (EnergyKind::Kinetic, "kinetic", "Kinetic energy"),
+            (
+                EnergyKind::Potential,
+                "potential",
+                "Gravity potential energy relative to the origin",
+            ),
+            (EnergyKind::Strain, "strain", "Strain energy"),
+            (
+                EnergyKind::Total,
+                "total",
+                "Kinetic + potential + strain energy",
+            ),
+        ] {
+            out.push(IoVariable::output(
+                format!("energy.{name}"),
+                "J",
+                what.into(),
+                OutputKind::Energy(kind),
+            ));
+        }
+    }
+    out
+}
