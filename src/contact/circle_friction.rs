@@ -10,15 +10,20 @@
 //! * geometry: `d = r − c`, `ρ = |d|`, normal `n = d/ρ`, tangent `t = (−n_y, n_x)`
 //!   (counter-clockwise), gap `g = ρ − R` with `R` = pulley radius + half the belt thickness
 //!   (the centre line runs at the pitch radius);
-//! * normal pressure per unit belt length `p = −k_n g − d_n ġ` (`ġ = v·n`), active while
-//!   `g < 0` and `p > 0`; force on the belt `w p n` (`w` = belt length the point stands for);
+//! * normal pressure per unit belt length `p = p_e(δ) − d_n ġ s(δ)` (`δ = −g`, `ġ = v·n`),
+//!   active while `δ > 0` and `p > 0`; force on the belt `w p n` (`w` = belt length the point
+//!   stands for). The penalty is smoothed over a small penetration `δ0`: `p_e = k_n δ²/(2δ0)`
+//!   and `s = δ/δ0` for `δ < δ0`, `p_e = k_n (δ − δ0/2)` and `s = 1` beyond, so that the force
+//!   is C¹ in the gap: a belt leaves and meets a pulley tangentially, points sit at `g ≈ 0`, and
+//!   a kinked penalty makes Newton's method cycle between "in" and "out" there;
 //! * relative slip of the belt over the pulley surface, measured in the pulley frame:
 //!   increment over a step `Δs = ρ (Δφ − Δθ)` (`φ` = polar angle of the point, `θ` = pulley
 //!   angle), so pure rolling (`Δφ = Δθ`) creates no force at any step size; slip rate
 //!   `ṡ = v·t − ω ρ`;
 //! * friction per unit length: trial `f* = k_t (z_n + Δs) + d_t ṡ` (`z` = bristle deflection);
-//!   stick if `|f*| ≤ μ p` (then `z = z_n + Δs`), else slip with `f = μ p sign(f*)` and
-//!   `z = sign(f*) μ p / k_t`; force on the belt `−w f t`, torque on the pulley `τ = ρ w f`.
+//!   stick if `|f*| ≤ μ p` (`f = f*`), else slip with `f = μ p sign(f*)`, blended C¹ over
+//!   `|f*|/(μp) ∈ [1 − ε, 1 + ε]` ([`stick_slip`]); new deflection `z = f/k_t`; force on the
+//!   belt `−w f t`, torque on the pulley `τ = ρ w f`.
 
 use nalgebra::{Matrix3, Vector2};
 
@@ -35,6 +40,12 @@ pub struct ContactLaw {
     pub d_t: f64,
     /// Coulomb friction coefficient `μ` [1].
     pub mu: f64,
+    /// Penetration over which the penalty stiffness ramps up from 0 to `k_n` [m] (0: a
+    /// kinked penalty).
+    pub smoothing: f64,
+    /// Relative half width `ε` of the C¹ blend between stick and Coulomb sliding (see
+    /// [`stick_slip`]; 0: exact elasto-plastic law).
+    pub blend: f64,
 }
 
 /// A pulley as the contact sees it.
@@ -87,14 +98,31 @@ pub struct PointContact {
     pub gap: f64,
     /// Slip rate `ṡ` [m/s].
     pub slip_rate: f64,
-    /// Elastic energy of the normal penalty `½ k_n g² w` [J].
+    /// Elastic energy of the normal penalty `w ∫ p_e dδ` [J].
     pub normal_energy: f64,
-    /// Dissipated power: normal damping `w d_n ġ²` plus friction `−f_t ṡ` [W].
+    /// Dissipated power: normal damping `w d_n s ġ²` plus friction `−f_t ṡ` [W].
     pub dissipation: f64,
     /// `∂(F_x, F_y, τ)/∂(r_x, r_y, θ)`.
     pub k: Matrix3<f64>,
     /// `∂(F_x, F_y, τ)/∂(v_x, v_y, ω)`.
     pub c: Matrix3<f64>,
+}
+
+/// The stick–slip map `φ(x)` for `x = |f*|/(μ p) ≥ 0` and its slope: `φ = x` (stick) for
+/// `x ≤ 1 − ε`, `φ = 1` (Coulomb sliding) for `x ≥ 1 + ε`, and the C¹ quadratic
+/// `1 − (1 + ε − x)²/(4ε)` between, so that the iteration matrix does not jump between the
+/// stick stiffness and zero when a point changes state (a jump makes Newton's method cycle).
+/// `ε = 0` gives the exact (kinked) elasto-plastic law.
+#[inline]
+pub fn stick_slip(x: f64, eps: f64) -> (f64, f64) {
+    if x <= 1.0 - eps {
+        (x, 1.0)
+    } else if x >= 1.0 + eps {
+        (1.0, 0.0)
+    } else {
+        let u = 1.0 + eps - x;
+        (1.0 - u * u / (4.0 * eps), u / (2.0 * eps))
+    }
 }
 
 /// Wraps an angle difference into (−π, π].
@@ -135,14 +163,34 @@ pub fn evaluate(
     let n = d / rho;
     let t = Vector2::new(-n.y, n.x);
     let g = rho - circle.radius;
+    let delta = -g;
     let (vn, vt) = (s.v.dot(&n), s.v.dot(&t));
-    let p = -law.k_n * g - law.d_n * vn;
+    let d0 = law.smoothing;
+    // elastic pressure, its slope, the damping ramp and its slope, the elastic energy density
+    let (pe, dpe, ramp, dramp, ue) = if delta < d0 {
+        (
+            law.k_n * delta * delta / (2.0 * d0),
+            law.k_n * delta / d0,
+            delta / d0,
+            1.0 / d0,
+            law.k_n * delta.powi(3) / (6.0 * d0),
+        )
+    } else {
+        (
+            law.k_n * (delta - 0.5 * d0),
+            law.k_n,
+            1.0,
+            0.0,
+            law.k_n * (0.5 * delta * delta - 0.5 * d0 * delta + d0 * d0 / 6.0),
+        )
+    };
+    let p = pe - law.d_n * vn * ramp;
     if p <= 0.0 {
         return None;
     }
-    // ∂p/∂d, ∂p/∂v (row vectors as 2-vectors)
-    let dp_dd = -law.k_n * n - (law.d_n * vt / rho) * t;
-    let dp_dv = -law.d_n * n;
+    // ∂p/∂d, ∂p/∂v (row vectors as 2-vectors); ∂δ/∂d = −n, ∂ġ/∂d = (v·t)/ρ t
+    let dp_dd = -(dpe - law.d_n * vn * dramp) * n - (law.d_n * ramp * vt / rho) * t;
+    let dp_dv = -law.d_n * ramp * n;
 
     // Slip increment and rate.
     let phi = d.y.atan2(d.x);
@@ -153,28 +201,30 @@ pub fn evaluate(
     let z_trial = hist.z + ds;
     let f_trial = law.k_t * z_trial + law.d_t * sdot;
     let cap = law.mu * p;
-    // f_t: friction force on the belt along t (per point), and its derivatives.
-    let (f_t, z, slipping, dft_dd, dft_dv, dft_dth, dft_dom);
-    if f_trial.abs() <= cap {
-        f_t = -w * f_trial;
-        z = z_trial;
-        slipping = false;
-        let dds_dd = (dphi - dtheta) * n + t;
-        let dsdot_dd = -(vn / rho) * t - s.omega * n;
-        dft_dd = -w * (law.k_t * dds_dd + law.d_t * dsdot_dd);
-        dft_dv = -w * law.d_t * t;
-        dft_dth = w * law.k_t * rho;
-        dft_dom = w * law.d_t * rho;
+    // derivatives of the trial force
+    let dds_dd = (dphi - dtheta) * n + t;
+    let dsdot_dd = -(vn / rho) * t - s.omega * n;
+    let dftr_dd = law.k_t * dds_dd + law.d_t * dsdot_dd;
+    let dftr_dv = law.d_t * t;
+    let dftr_dth = -law.k_t * rho;
+    let dftr_dom = -law.d_t * rho;
+    // f = cap φ(f*/cap): ∂f = φ' ∂f* + (φ − x φ') ∂cap, ∂cap = μ ∂p
+    let (f, dphi_dx, rest) = if cap > 0.0 {
+        let x = f_trial / cap;
+        let (ph, dph) = stick_slip(x.abs(), law.blend);
+        let ph = ph.copysign(x);
+        (cap * ph, dph, ph - x * dph)
     } else {
-        let sign = f_trial.signum();
-        f_t = -w * sign * cap;
-        z = if law.k_t > 0.0 { sign * cap / law.k_t } else { 0.0 };
-        slipping = true;
-        dft_dd = -w * sign * law.mu * dp_dd;
-        dft_dv = -w * sign * law.mu * dp_dv;
-        dft_dth = 0.0;
-        dft_dom = 0.0;
-    }
+        (0.0, 0.0, 0.0)
+    };
+    let slipping = cap <= 0.0 || f_trial.abs() >= cap;
+    let z = if law.k_t > 0.0 { f / law.k_t } else { 0.0 };
+    // friction force on the belt along t: f_t = −w f
+    let f_t = -w * f;
+    let dft_dd = -w * (dphi_dx * dftr_dd + rest * law.mu * dp_dd);
+    let dft_dv = -w * (dphi_dx * dftr_dv + rest * law.mu * dp_dv);
+    let dft_dth = -w * dphi_dx * dftr_dth;
+    let dft_dom = -w * dphi_dx * dftr_dom;
     let force = (w * p) * n + f_t * t;
     let torque = -rho * f_t;
 
@@ -206,8 +256,8 @@ pub fn evaluate(
         pressure: p,
         gap: g,
         slip_rate: sdot,
-        normal_energy: 0.5 * law.k_n * g * g * w,
-        dissipation: w * law.d_n * vn * vn - f_t * sdot,
+        normal_energy: ue * w,
+        dissipation: w * law.d_n * ramp * vn * vn - f_t * sdot,
         k,
         c,
     })
@@ -224,6 +274,8 @@ mod tests {
             k_t: 1e7,
             d_t: 1e3,
             mu: 0.3,
+            smoothing: 5e-6,
+            blend: 0.05,
         }
     }
 
@@ -313,6 +365,35 @@ mod tests {
         check_jacobians(s, h, false);
     }
 
+    /// Inside the smoothing zone of the penalty (δ < δ0).
+    #[test]
+    fn tangent_in_the_smoothing_zone() {
+        let s = PointState {
+            r: at(-0.4, 0.1 - 2e-6),
+            v: Vector2::new(0.1, 0.3),
+            theta: 0.0,
+            omega: 2.0,
+        };
+        let h = PointHistory {
+            phi: -0.4 + 2e-4,
+            theta: 0.0,
+            z: 0.0,
+        };
+        check_jacobians(s, h, true);
+        let s2 = PointState {
+            r: at(-0.4, 0.1 - 2e-6),
+            v: Vector2::new(0.0, 0.0),
+            theta: 0.0,
+            omega: 0.0,
+        };
+        let h2 = PointHistory {
+            phi: -0.4,
+            theta: 0.0,
+            z: 1e-9,
+        };
+        check_jacobians(s2, h2, false);
+    }
+
     #[test]
     fn slip_tangent_matches_finite_differences() {
         let s = PointState {
@@ -355,7 +436,8 @@ mod tests {
         let r = evaluate(&law, &cir, 1e-2, &s, &h).unwrap();
         assert!(!r.slipping);
         assert!(r.torque.abs() < 1e-9, "{}", r.torque);
-        assert!((r.force - 1e-2 * law.k_n * 1e-5 * n).norm() < 1e-9);
+        let expect = 1e-2 * law.k_n * (1e-5 - 0.5 * law.smoothing);
+        assert!((r.force - expect * n).norm() < 1e-9);
     }
 
     /// Sliding: tangential force = μ × normal force, opposing the slip; torque = ρ × friction.
@@ -376,7 +458,7 @@ mod tests {
         };
         let r = evaluate(&law, &cir, 1e-2, &s, &h).unwrap();
         assert!(r.slipping);
-        let fn_ = 1e-2 * law.k_n * 1e-4;
+        let fn_ = 1e-2 * law.k_n * (1e-4 - 0.5 * law.smoothing);
         assert!((r.force.x - fn_).abs() < 1e-9);
         assert!((r.force.y + law.mu * fn_).abs() < 1e-9, "{}", r.force.y);
         assert!((r.torque - (0.1 - 1e-4) * law.mu * fn_).abs() < 1e-9);
@@ -386,6 +468,37 @@ mod tests {
             ..s
         };
         assert!(evaluate(&law, &cir, 1e-2, &far, &h).is_none());
+    }
+
+    /// In the blend zone between stick and slip (|f*| ≈ μ p).
+    #[test]
+    fn tangent_in_the_stick_slip_blend() {
+        let law = law();
+        // find a slip increment that puts f* at 1.02 μ p: f* = k_t ρ Δφ, p ≈ k_n (δ − δ0/2)
+        let delta = 2e-5;
+        let p = law.k_n * (delta - 0.5 * law.smoothing);
+        let dphi = 1.02 * law.mu * p / (law.k_t * (0.1 - delta));
+        let s = PointState {
+            r: at(1.0, 0.1 - delta),
+            v: Vector2::zeros(),
+            theta: 0.0,
+            omega: 0.0,
+        };
+        let h = PointHistory {
+            phi: 1.0 - dphi,
+            theta: 0.0,
+            z: 0.0,
+        };
+        let r = evaluate(&law, &circle(), 1e-3, &s, &h).unwrap();
+        let ratio = -r.force.dot(&Vector2::new(-(1.0f64).sin(), 1.0f64.cos())) / (1e-3 * law.mu * p);
+        assert!(ratio > 0.99 && ratio < 1.0, "{ratio}");
+        check_jacobians(s, h, true);
+        // the map is C¹ at both ends of the blend
+        for x in [0.95, 1.05] {
+            let (a, da) = stick_slip(x - 1e-9, 0.05);
+            let (b, db) = stick_slip(x + 1e-9, 0.05);
+            assert!((a - b).abs() < 1e-8 && (da - db).abs() < 1e-6);
+        }
     }
 
     #[test]

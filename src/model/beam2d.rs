@@ -235,6 +235,8 @@ impl Beam2d {
                     self.kinetic_energy() + self.potential_energy() + self.strain_energy()
                 }
             },
+            // not declared by beam scenes
+            OutputKind::Belt(_) => f64::NAN,
         }
     }
 
@@ -334,6 +336,8 @@ impl Model for Beam2d {
     fn set_input(&mut self, kind: InputKind, value: f64) {
         match kind {
             InputKind::Load { load, axis } => self.load_values[load][axis] = value,
+            // not declared by beam scenes
+            InputKind::Pulley { .. } => {}
         }
     }
 

@@ -2,6 +2,7 @@
 
 use super::Model;
 use super::beam2d::Beam2d;
+use super::belt_drive::BeltDrive;
 use crate::scene::{ParamValues, Scene, SceneKind};
 
 /// The model of `scene` with parameter values `params` (validated here). Errors name the
@@ -10,5 +11,6 @@ pub fn build_model(scene: &Scene, params: &ParamValues) -> Result<Box<dyn Model>
     scene.validate_params(params)?;
     match scene.kind {
         SceneKind::Beam2d => Ok(Box::new(Beam2d::build(&scene.file, params)?)),
+        SceneKind::BeltDrive => Ok(Box::new(BeltDrive::build(&scene.file, params)?)),
     }
 }
