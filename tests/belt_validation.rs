@@ -153,3 +153,191 @@ fn capstan_ramp(r: f64, span: f64, mu: f64, t2: f64, ratio0: f64, rate: f64, h: 
         assert!(ratio < 3.5, "no slip up to T1/T2 = {ratio}");
     }
 }
+
+/// A two-pulley drive: pulley 1 driven, pulley 2 free with a load torque and bearing damping.
+struct Drive {
+    ea: f64,
+    pretension: f64,
+    radius: f64,
+    thickness: f64,
+    mu: f64,
+    n_el: usize,
+    load: f64,
+    damping: f64,
+    omega: f64,
+    track_energy: bool,
+}
+
+impl Drive {
+    fn soft() -> Self {
+        Self {
+            ea: 5000.0,
+            pretension: 300.0,
+            radius: 0.1,
+            thickness: 0.002,
+            mu: 0.5,
+            n_el: 60,
+            load: 10.0,
+            damping: 0.02,
+            omega: 30.0,
+            track_energy: false,
+        }
+    }
+
+    fn model(&self) -> BeltDrive {
+        let rp = self.radius + 0.5 * self.thickness;
+        let section = CableSection {
+            ea: self.ea,
+            ei: 0.01,
+            mass_per_length: 0.1,
+            damping_axial: 5.0,
+            damping_bending: 0.0,
+            prestrain: 0.0,
+        };
+        BeltDrive::new(BeltSpec {
+            section,
+            element: BeltElementKind::Cable(CableRule::Full),
+            thickness: self.thickness,
+            pulleys: vec![
+                PulleyDef {
+                    center: Vector2::zeros(),
+                    radius: self.radius,
+                    kind: PulleyKind::Driven,
+                },
+                PulleyDef {
+                    center: Vector2::new(0.5, 0.0),
+                    radius: self.radius,
+                    kind: PulleyKind::Free {
+                        inertia: 0.01,
+                        damping: self.damping,
+                    },
+                },
+            ],
+            contact: default_contact(
+                self.ea,
+                0.1,
+                self.thickness,
+                rp,
+                rp,
+                self.pretension,
+                self.mu,
+                (0.0, 0.0, 0.0),
+            ),
+            points_per_element: 4,
+            gravity: Vector2::zeros(),
+            path: BeltPath::Closed {
+                n_elements: self.n_el,
+                pretension: self.pretension,
+            },
+            n_points: 0,
+            track_energy: self.track_energy,
+            statics: (newton(), SolverKind::Auto, 1),
+        })
+        .unwrap()
+    }
+
+    /// Runs `t_end` seconds at communication step `h` (driver speed and load ramped over the
+    /// first 0.3 s); calls `sample(t, sim)` after every step.
+    fn run(&self, rho_inf: f64, h: f64, t_end: f64, mut sample: impl FnMut(f64, &Simulation)) {
+        let mut sim = Simulation::new(Box::new(self.model()), config(rho_inf, h), 0.0).unwrap();
+        sim.initialize().unwrap();
+        let mut angle = 0.0;
+        let n = (t_end / h).round() as usize;
+        for i in 0..n {
+            let t = i as f64 * h;
+            let ramp = |t: f64| (t / 0.3).min(1.0);
+            let w0 = self.omega * ramp(t);
+            let w1 = self.omega * ramp(t + h);
+            sim.set_input(input(0, PulleyInput::Angle), angle);
+            sim.set_input(input(0, PulleyInput::Omega), 0.5 * (w0 + w1));
+            sim.set_input(input(1, PulleyInput::Torque), -self.load * ramp(t));
+            sim.advance(t + h)
+                .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
+            angle += 0.5 * (w0 + w1) * h;
+            sample(t + h, &sim);
+        }
+    }
+}
+
+fn belt(sim: &Simulation, o: BeltOutput) -> f64 {
+    sim.output(OutputKind::Belt(o))
+}
+
+/// Steady drive, averaged over the last 0.2 s of 1.2 s: torque balance (T1 − T2) ρ against
+/// the load torque plus bearing damping (1 %), and the creep speed ratio against
+/// (EA + T2)/(EA + T1) (1 %; the soft belt, EA = 5 kN, makes the creep about 2 %).
+#[test]
+fn steady_drive_torque_balance_and_creep() {
+    let d = Drive::soft();
+    let rp = d.radius + 0.5 * d.thickness;
+    let (mut n, mut t1, mut t2, mut w1, mut w2, mut tq2) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    d.run(0.8, 1e-3, 1.2, |t, sim| {
+        if t > 1.0 {
+            n += 1.0;
+            t1 += belt(sim, BeltOutput::TensionTight);
+            t2 += belt(sim, BeltOutput::TensionSlack);
+            w1 += d.omega;
+            w2 += belt(sim, BeltOutput::PulleyOmega(1));
+            tq2 += belt(sim, BeltOutput::PulleyTorque(1));
+        }
+    });
+    let (t1, t2, w1, w2, tq2) = (t1 / n, t2 / n, w1 / n, w2 / n, tq2 / n);
+    let load = d.load + d.damping * w2;
+    let balance = (t1 - t2) * rp;
+    let err_torque = (balance - load).abs() / load;
+    let ratio = w2 / w1;
+    let theory = (d.ea + t2) / (d.ea + t1);
+    let err_creep = (ratio - theory).abs() / theory;
+    let creep_err = ((1.0 - ratio) - (1.0 - theory)).abs() / (1.0 - theory);
+    println!(
+        "steady drive: T1 = {t1:.2} N, T2 = {t2:.2} N, (T1-T2) rho = {balance:.4} N m, load {load:.4} N m (error {:.3} %), belt torque on pulley 2 {tq2:.4} N m",
+        100.0 * err_torque
+    );
+    println!(
+        "creep: omega2/omega1 = {ratio:.5}, (EA+T2)/(EA+T1) = {theory:.5} (ratio error {:.3} %, creep {:.3} % vs {:.3} %: {:.1} % of the creep)",
+        100.0 * err_creep,
+        100.0 * (1.0 - ratio),
+        100.0 * (1.0 - theory),
+        100.0 * creep_err
+    );
+    assert!(err_torque < 0.01, "torque balance error {err_torque}");
+    assert!(err_creep < 0.01, "creep ratio error {err_creep}");
+    // the creep is real (not a rigid-belt ratio of 1)
+    assert!(1.0 - ratio > 0.01, "creep {}", 1.0 - ratio);
+}
+
+/// Energy balance over a start-up with load (Newmark, no numerical damping): the work of the
+/// driver and of the load torque equals the change of kinetic, strain and contact energy plus
+/// the dissipation by friction, contact, material and bearing damping, within 1 % of the
+/// input work.
+#[test]
+fn energy_balance() {
+    let d = Drive {
+        track_energy: true,
+        ..Drive::soft()
+    };
+    let mut first = None;
+    let mut last = (0.0, 0.0, 0.0);
+    d.run(1.0, 5e-4, 0.6, |_t, sim| {
+        let e = sim.output(OutputKind::Energy(EnergyKind::Total));
+        if first.is_none() {
+            first = Some(e);
+        }
+        last = (
+            e,
+            belt(sim, BeltOutput::InputWork),
+            belt(sim, BeltOutput::Dissipated),
+        );
+    });
+    let e0 = first.unwrap();
+    let (e1, w, diss) = last;
+    let mismatch = w - (e1 - e0) - diss;
+    println!(
+        "energy: input work {w:.4} J, stored change {:.4} J, dissipated {diss:.4} J, mismatch {mismatch:.3e} J ({:.3} % of the input)",
+        e1 - e0,
+        100.0 * mismatch.abs() / w.abs()
+    );
+    assert!(w > 1.0, "the drive does work: {w}");
+    assert!(diss > 0.0);
+    assert!(mismatch.abs() < 0.01 * w.abs());
+}

