@@ -505,7 +505,8 @@ mod tests {
             f: 0.0,
         };
         let r = evaluate(&law, &circle(), 1e-3, &s, &h).unwrap();
-        let ratio = -r.force.dot(&Vector2::new(-(1.0f64).sin(), 1.0f64.cos())) / (1e-3 * law.mu * p);
+        let ratio =
+            -r.force.dot(&Vector2::new(-(1.0f64).sin(), 1.0f64.cos())) / (1e-3 * law.mu * p);
         assert!(ratio > 0.99 && ratio < 1.0, "{ratio}");
         check_jacobians(s, h, true);
         // the map is C¹ at both ends of the blend

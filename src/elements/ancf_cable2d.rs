@@ -166,7 +166,8 @@ impl AncfCable2d {
         };
         let mut axial = [Point::default(); 5];
         let mut bending = [Point::default(); 3];
-        let (ra, rb): (&[(f64, f64)], &[(f64, f64)]) = match rule {
+        type Rule = &'static [(f64, f64)];
+        let (ra, rb): (Rule, Rule) = match rule {
             CableRule::Full => (gauss_legendre(5), gauss_legendre(3)),
             CableRule::Reduced => (gauss_legendre(4), gauss_legendre(2)),
             CableRule::Mixed => (lobatto3(), gauss_legendre(2)),
@@ -539,7 +540,10 @@ mod tests {
                     for j in 0..2 {
                         let expect = if i == j { m4[(a, b)] } else { 0.0 };
                         let got = m[(2 * a + i, 2 * b + j)];
-                        assert!((got - expect).abs() <= 1e-14, "M[{a}{i},{b}{j}] {got} {expect}");
+                        assert!(
+                            (got - expect).abs() <= 1e-14,
+                            "M[{a}{i},{b}{j}] {got} {expect}"
+                        );
                     }
                 }
             }
@@ -642,7 +646,13 @@ mod tests {
     #[test]
     fn force_matches_energy_gradient() {
         for rule in RULES {
-            for sec in [section(), CableSection { prestrain: -0.01, ..section() }] {
+            for sec in [
+                section(),
+                CableSection {
+                    prestrain: -0.01,
+                    ..section()
+                },
+            ] {
                 let el = AncfCable2d::new(L, sec, rule);
                 let q = deformed();
                 let mut f = ElemVec::zeros();

@@ -53,7 +53,11 @@ mod tests {
     #[test]
     fn lobatto_is_exact_to_degree_3() {
         for k in 0..4 {
-            let exact = if k % 2 == 1 { 0.0 } else { 2.0 / (k as f64 + 1.0) };
+            let exact = if k % 2 == 1 {
+                0.0
+            } else {
+                2.0 / (k as f64 + 1.0)
+            };
             let q: f64 = lobatto3().iter().map(|(x, w)| w * x.powi(k)).sum();
             assert!((q - exact).abs() < 1e-14, "k={k}");
         }

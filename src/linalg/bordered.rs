@@ -86,9 +86,7 @@ impl BorderedBanded {
         let mut order = Vec::with_capacity(n);
         let mut seen = is_border.clone();
         loop {
-            let start = (0..n)
-                .filter(|&i| !seen[i])
-                .min_by_key(|&i| adj[i].len());
+            let start = (0..n).filter(|&i| !seen[i]).min_by_key(|&i| adj[i].len());
             let Some(start) = start else { break };
             let mut queue = VecDeque::from([start]);
             seen[start] = true;
@@ -314,7 +312,11 @@ mod tests {
         let mut y = vec![0.0; n];
         p.mul_vec(&vals, &x, &mut y);
         for i in 0..n {
-            assert!((y[i] - rhs[i]).abs() < 1e-12, "residual at {i}: {}", y[i] - rhs[i]);
+            assert!(
+                (y[i] - rhs[i]).abs() < 1e-12,
+                "residual at {i}: {}",
+                y[i] - rhs[i]
+            );
         }
     }
 }

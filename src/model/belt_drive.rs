@@ -22,11 +22,14 @@ use crate::elements::ancf_shear2d::{self, AncfShear2d, Section, ShearRule};
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::integrators::DynState;
 use crate::linalg::CscPattern;
-use crate::variables::{BeltOutput, EnergyKind, InputKind, OutputKind, PulleyInput};
 use crate::scene::SceneFile;
 use crate::scene::file::PulleyMode;
-use crate::scene::params::{ParamValues, names::{GRAVITY_X, GRAVITY_Y}};
+use crate::scene::params::{
+    ParamValues,
+    names::{GRAVITY_X, GRAVITY_Y},
+};
 use crate::solver::simulation::SolverConfig;
+use crate::variables::{BeltOutput, EnergyKind, InputKind, OutputKind, PulleyInput};
 use nalgebra::{SMatrix, Vector2};
 
 const NONE: u32 = u32::MAX;
@@ -114,7 +117,11 @@ pub struct BeltSpec {
     /// Track input work and dissipation (energy outputs).
     pub track_energy: bool,
     /// Newton settings and linear solver of the static pre-load.
-    pub statics: (crate::solver::newton::NewtonSettings, crate::linalg::SolverKind, usize),
+    pub statics: (
+        crate::solver::newton::NewtonSettings,
+        crate::linalg::SolverKind,
+        usize,
+    ),
 }
 
 /// Default contact constants derived from the belt (see the `contact.*` parameters):
@@ -177,8 +184,7 @@ impl Element {
             BeltElementKind::Cable(rule) => Element::Cable(AncfCable2d::new(l, *sec, rule)),
             BeltElementKind::Shear => {
                 let h = (12.0 * sec.ei / sec.ea).sqrt();
-                let e0 =
-                    AncfShear2d::straight_reference(Vector2::zeros(), Vector2::new(l, 0.0));
+                let e0 = AncfShear2d::straight_reference(Vector2::zeros(), Vector2::new(l, 0.0));
                 let section = Section {
                     width: 1.0,
                     height: h,
@@ -435,7 +441,8 @@ impl BeltDrive {
         for e in 0..n_el {
             let d = asm.element_dofs(e);
             for k in 0..np {
-                let idx: [usize; 9] = std::array::from_fn(|i| if i < 8 { d[i] } else { pulley_dof[k] });
+                let idx: [usize; 9] =
+                    std::array::from_fn(|i| if i < 8 { d[i] } else { pulley_dof[k] });
                 for j in 0..9 {
                     for i in 0..9 {
                         if let (Some(a), Some(b)) =
@@ -575,7 +582,10 @@ impl BeltDrive {
             })
             .collect();
         let thickness = p.real(BELT_THICKNESS);
-        let r_min = pulleys.iter().map(|p| p.radius).fold(f64::INFINITY, f64::min);
+        let r_min = pulleys
+            .iter()
+            .map(|p| p.radius)
+            .fold(f64::INFINITY, f64::min);
         let r_max = pulleys.iter().map(|p| p.radius).fold(0.0, f64::max);
         let contact = default_contact(
             section.ea,
@@ -834,9 +844,13 @@ impl BeltDrive {
                 for i in 0..n_cp {
                     let st = self.point_state(e, i, k, &self.qw, &self.vw);
                     let h = &self.hist[(e * n_cp + i) * np + k];
-                    let Some(res) =
-                        circle_friction::evaluate(&self.spec.contact, &self.circles[k], self.cp_w, &st, h)
-                    else {
+                    let Some(res) = circle_friction::evaluate(
+                        &self.spec.contact,
+                        &self.circles[k],
+                        self.cp_w,
+                        &st,
+                        h,
+                    ) else {
                         continue;
                     };
                     any = true;
@@ -937,7 +951,8 @@ impl BeltDrive {
                             contact_energy += r.normal_energy;
                             contact_diss += r.dissipation;
                             // work against friction over the step (trapezoidal in the slip)
-                            friction_work += self.cp_w * 0.5 * (h.f + r.friction) * r.slip_increment;
+                            friction_work +=
+                                self.cp_w * 0.5 * (h.f + r.friction) * r.slip_increment;
                             (r.z, r.friction)
                         }
                         None => (0.0, 0.0),
@@ -964,10 +979,7 @@ impl BeltDrive {
                 for e in 0..self.n_el {
                     let d = self.asm.element_dofs(e);
                     let mid = 0.5
-                        * Vector2::new(
-                            self.q[d[0]] + self.q[d[4]],
-                            self.q[d[1]] + self.q[d[5]],
-                        );
+                        * Vector2::new(self.q[d[0]] + self.q[d[4]], self.q[d[1]] + self.q[d[5]]);
                     let dist = (mid - m).norm();
                     if dist < best.0 {
                         best = (dist, e);
@@ -1007,8 +1019,7 @@ impl BeltDrive {
             let h = t - self.t;
             if !initial && h > 0.0 {
                 self.energy.input_work += 0.5 * h * (self.energy.p_in + p_in);
-                self.energy.dissipated +=
-                    0.5 * h * (self.energy.p_diss + p_diss) + friction_work;
+                self.energy.dissipated += 0.5 * h * (self.energy.p_diss + p_diss) + friction_work;
             }
             self.energy.p_in = p_in;
             self.energy.p_diss = p_diss;
@@ -1108,9 +1119,11 @@ impl BeltDrive {
                 BeltOutput::PulleyForceY(k) => self.io[k].force.y,
                 BeltOutput::PulleyAngle(k) => self.q[self.pulley_dof[k]],
                 BeltOutput::PulleyOmega(k) => self.v[self.pulley_dof[k]],
-                BeltOutput::TensionTight => {
-                    self.tensions.iter().copied().fold(f64::NEG_INFINITY, f64::max)
-                }
+                BeltOutput::TensionTight => self
+                    .tensions
+                    .iter()
+                    .copied()
+                    .fold(f64::NEG_INFINITY, f64::max),
                 BeltOutput::TensionSlack => {
                     self.tensions.iter().copied().fold(f64::INFINITY, f64::min)
                 }
@@ -1324,7 +1337,10 @@ mod tests {
     #[test]
     fn model_jacobian_matches_finite_differences() {
         let (mut m, s) = running(60, 5e-4);
-        assert!(m.slipping_points() > 0, "the test state should have sliding points");
+        assert!(
+            m.slipping_points() > 0,
+            "the test state should have sliding points"
+        );
         let n = m.n_free();
         let t = s.t;
         let pat = m.pattern().clone();
@@ -1336,8 +1352,16 @@ mod tests {
             };
             let mut r = vec![0.0; n];
             let mut vals = vec![0.0; pat.nnz()];
-            m.residual(t, &s.q, &s.v, &s.acc, 1.0, &mut r, Some((coeffs, &mut vals)))
-                .unwrap();
+            m.residual(
+                t,
+                &s.q,
+                &s.v,
+                &s.acc,
+                1.0,
+                &mut r,
+                Some((coeffs, &mut vals)),
+            )
+            .unwrap();
             let mut worst: f64 = 0.0;
             let mut scale: f64 = 0.0;
             for j in 0..n {
@@ -1351,11 +1375,15 @@ mod tests {
                 xm[j] -= hstep;
                 let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
                 if stiff > 0.0 {
-                    m.residual(t, &xp, &s.v, &s.acc, 1.0, &mut rp, None).unwrap();
-                    m.residual(t, &xm, &s.v, &s.acc, 1.0, &mut rm, None).unwrap();
+                    m.residual(t, &xp, &s.v, &s.acc, 1.0, &mut rp, None)
+                        .unwrap();
+                    m.residual(t, &xm, &s.v, &s.acc, 1.0, &mut rm, None)
+                        .unwrap();
                 } else {
-                    m.residual(t, &s.q, &xp, &s.acc, 1.0, &mut rp, None).unwrap();
-                    m.residual(t, &s.q, &xm, &s.acc, 1.0, &mut rm, None).unwrap();
+                    m.residual(t, &s.q, &xp, &s.acc, 1.0, &mut rp, None)
+                        .unwrap();
+                    m.residual(t, &s.q, &xm, &s.acc, 1.0, &mut rm, None)
+                        .unwrap();
                 }
                 for i in 0..n {
                     let fd = (rp[i] - rm[i]) / (2.0 * hstep);

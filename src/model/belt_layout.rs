@@ -71,7 +71,7 @@ impl Loop {
             let d = cj.center - ci.center;
             let l = d.norm();
             let a = (ci.radius - cj.radius) / l;
-            if !(l > 0.0) || a.abs() >= 1.0 {
+            if l.is_nan() || l <= 0.0 || a.abs() >= 1.0 {
                 return Err(format!(
                     "pulleys {} and {}: the centre distance {l:.6} m must exceed the difference of the pitch radii {:.6} m",
                     i + 1,
@@ -113,10 +113,7 @@ impl Loop {
                 total
             ));
         }
-        let length = spans
-            .iter()
-            .map(|s| (s.end - s.start).norm())
-            .sum::<f64>()
+        let length = spans.iter().map(|s| (s.end - s.start).norm()).sum::<f64>()
             + wrap
                 .iter()
                 .zip(circles)

@@ -110,7 +110,9 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
             errs.push(format!("{key}.center: must be finite numbers"));
         }
         if !p.omega.is_finite() || !p.torque_in.is_finite() || !p.damping.is_finite() {
-            errs.push(format!("{key}: omega, torque_in and damping must be finite"));
+            errs.push(format!(
+                "{key}: omega, torque_in and damping must be finite"
+            ));
         }
         match (p.mode, p.inertia) {
             (PulleyMode::Free, None) => errs.push(format!(

@@ -48,7 +48,10 @@ impl Scene {
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {
         let file: SceneFile =
             toml::from_str(text).map_err(|e| SceneError(format!("scene file: {e}")))?;
-        let kind = match (file.element.kind, file.belt.is_some() || !file.pulley.is_empty()) {
+        let kind = match (
+            file.element.kind,
+            file.belt.is_some() || !file.pulley.is_empty(),
+        ) {
             (_, true) => SceneKind::BeltDrive,
             (ElementType::AncfShear2d, false) => SceneKind::Beam2d,
             (ElementType::AncfCable2d, false) => {
