@@ -147,7 +147,10 @@ fn capstan_ramp(r: f64, span: f64, mu: f64, t2: f64, ratio0: f64, rate: f64, h: 
         let v = m.velocities();
         let speed = Vector2::new(v[0], v[1]).norm();
         if speed > 0.02 {
-            assert!(t > 0.7, "the belt slid already at T1/T2 = {ratio} during loading");
+            assert!(
+                t > 0.7,
+                "the belt slid already at T1/T2 = {ratio} during loading"
+            );
             return ratio;
         }
         assert!(ratio < 3.5, "no slip up to T1/T2 = {ratio}");
