@@ -11,6 +11,11 @@ from helpers import Session
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "scripts"))
 
+# fmpy's C logger proxy (addLoggerProxy, used by helpers.Session) keeps the last registered Python
+# logger in a global; a Session whose callback is garbage-collected leaves it dangling and a later
+# FMU that logs through the proxy crashes. Sessions of this module stay referenced.
+_KEEP_ALIVE = []
+
 OUT = ["belt.tension_tight", "belt.tension_slack", "pulley1.force_x", "pulley1.force_y", "pulley1.torque"]
 
 
@@ -50,6 +55,7 @@ def test_seed000_element_is_selectable_as_belt(fmus):
 
 def test_impossible_layout_is_an_error_with_a_message(fmus):
     s = Session(fmus["belt_drive"], logging_on=True)
+    _KEEP_ALIVE.append(s)
     try:
         sl = s.slave
         sl.setupExperiment(startTime=0.0)
