@@ -14,6 +14,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
+pub mod contact;
 pub mod elements;
 pub mod fmi2;
 pub mod guid;

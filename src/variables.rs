@@ -105,6 +105,17 @@ pub enum EnergyKind {
     Total,
 }
 
+/// What a pulley input sets (belt-drive scenes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PulleyInput {
+    /// `pulleyN.angle`: prescribed angle of a driven pulley [rad].
+    Angle,
+    /// `pulleyN.omega`: prescribed angular velocity of a driven pulley [rad/s].
+    Omega,
+    /// `pulleyN.torque_in`: external torque on a free pulley [N m].
+    Torque,
+}
+
 /// What an input drives.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum InputKind {
@@ -131,6 +142,45 @@ pub enum InputKind {
         /// 0 = x, 1 = y, 2 = vx, 3 = vy.
         component: usize,
     },
+    /// A pulley input (belt-drive scenes).
+    Pulley {
+        /// Index of the pulley (0 for `pulley1`).
+        pulley: usize,
+        /// Which quantity.
+        quantity: PulleyInput,
+    },
+}
+
+/// Outputs of belt-drive scenes (pulley indices start at 0 for `pulley1`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BeltOutput {
+    /// `pulleyN.torque`: torque the belt exerts on the pulley about its centre [N m]
+    /// (counter-clockwise positive).
+    PulleyTorque(usize),
+    /// `pulleyN.force_x`: force the belt exerts on the pulley, x [N].
+    PulleyForceX(usize),
+    /// `pulleyN.force_y`: force the belt exerts on the pulley, y [N].
+    PulleyForceY(usize),
+    /// `pulleyN.angle` of a free pulley [rad].
+    PulleyAngle(usize),
+    /// `pulleyN.omega` of a free pulley [rad/s].
+    PulleyOmega(usize),
+    /// `belt.tension_tight`: the larger span tension [N].
+    TensionTight,
+    /// `belt.tension_slack`: the smaller span tension [N].
+    TensionSlack,
+    /// `belt.slip`: `1 − ω_last ρ_last / (ω_1 ρ_1)` (speed loss by creep and slip) [1].
+    Slip,
+    /// `belt.speed`: mean speed of the belt nodes [m/s].
+    Speed,
+    /// `belt.point[i].x` [m].
+    PointX(usize),
+    /// `belt.point[i].y` [m].
+    PointY(usize),
+    /// `energy.input_work`: work of the pulley drives and input torques since t = 0 [J].
+    InputWork,
+    /// `energy.dissipated`: energy dissipated by contact, friction and damping since t = 0 [J].
+    Dissipated,
 }
 
 /// What an output reports.
@@ -152,6 +202,8 @@ pub enum OutputKind {
         /// 0 = x, 1 = y.
         axis: usize,
     },
+    /// A belt-drive output.
+    Belt(BeltOutput),
 }
 
 /// Role of a variable in the model.
@@ -382,7 +434,14 @@ pub fn unit_exponents(unit: &str) -> Option<(i32, i32, i32)> {
         "N.m2" => (1, 3, -2),
         "kg/m" => (1, -1, 0),
         "kg.m" => (1, 1, 0),
+        // radians are dimensionless in SI base units
         "rad" => (0, 0, 0),
+        "kg.m2" => (1, 2, 0),
+        "N.m.s/rad" => (1, 2, -1),
+        "N/m2" => (1, -1, -2),
+        "N.s/m2" => (1, -1, -1),
+        "N.s" => (1, 1, -1),
+        "N.m2.s" => (1, 3, -1),
         _ => return None,
     })
 }

@@ -409,3 +409,23 @@ fn restore_is_bit_exact_for_the_3d_beam() {
     run(&mut b, 1.0, 3.0, 0.05);
     assert_eq!(outputs(&mut b), first);
 }
+
+/// And for the belt drive: the state includes the friction history of every contact point, the
+/// pulley inputs and the energy book.
+#[test]
+fn restore_is_bit_exact_for_the_belt_drive() {
+    let (mut a, log) = instance("belt_drive_inertia");
+    set(&mut a, "belt.n_elements", Value::Integer(40));
+    assert_eq!(a.setup_experiment(None, 0.0, None), Status::Ok);
+    assert_eq!(a.enter_initialization_mode(), Status::Ok);
+    let s = a.exit_initialization_mode();
+    assert_eq!(s, Status::Ok, "{:?}", log.borrow());
+    set(&mut a, "pulley1.torque_in", Value::Real(20.0));
+    run(&mut a, 0.0, 0.05, 1e-3);
+    let state = a.save_fmu_state(Call::GetFmuState).unwrap();
+    run(&mut a, 0.05, 0.1, 1e-3);
+    let first = outputs(&mut a);
+    assert_eq!(a.restore_fmu_state(&state), Status::Ok);
+    run(&mut a, 0.05, 0.1, 1e-3);
+    assert_eq!(outputs(&mut a), first);
+}

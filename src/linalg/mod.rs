@@ -1,10 +1,12 @@
 //! Sparse storage and factorizations of the global iteration matrix.
 //!
 //! The pattern is fixed per mesh ([`csc::CscPattern`]); assembly writes into preallocated values;
-//! [`LinearSolver`] factorizes with a banded LU (chains of elements) or faer's sparse LU
-//! (general patterns), analysing the structure once.
+//! [`LinearSolver`] factorizes with a banded LU (chains of elements), a bordered banded LU
+//! (closed loops with a few dense couplings) or faer's sparse LU (general patterns), analysing
+//! the structure once.
 
 pub mod banded;
+pub mod bordered;
 pub mod csc;
 pub mod solver;
 pub mod sparse_lu;

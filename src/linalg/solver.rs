@@ -2,13 +2,16 @@
 
 use super::FactorError;
 use super::banded::BandedLu;
+use super::bordered::BorderedBanded;
 use super::csc::CscPattern;
 use super::sparse_lu::SparseLu;
 
 /// Which factorization to use (FMU parameter `solver.linear_solver`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SolverKind {
-    /// Banded when the bandwidth is small against the size, sparse LU otherwise.
+    /// Banded when the bandwidth is small against the size; else bordered banded when a
+    /// Cuthill–McKee reordering makes it narrow apart from a few dense rows and columns (closed
+    /// loops); sparse LU otherwise.
     Auto,
     /// Banded LU with partial pivoting.
     Banded,
@@ -23,6 +26,8 @@ pub enum LinearSolver {
     Banded(BandedLu),
     /// Sparse LU.
     Sparse(Box<SparseLu>),
+    /// Banded LU of a reordered core with a dense border (Schur complement).
+    Bordered(Box<BorderedBanded>),
 }
 
 impl LinearSolver {
@@ -37,11 +42,15 @@ impl LinearSolver {
             // more than fill-reducing sparse LU.
             SolverKind::Auto => (kl + ku) <= 24 || 8 * (kl + ku) <= n,
         };
-        Ok(if banded {
-            LinearSolver::Banded(BandedLu::new(n, kl, ku))
-        } else {
-            LinearSolver::Sparse(Box::new(SparseLu::new(pattern)?))
-        })
+        if banded {
+            return Ok(LinearSolver::Banded(BandedLu::new(n, kl, ku)));
+        }
+        if kind == SolverKind::Auto {
+            if let Some(b) = BorderedBanded::analyse(pattern) {
+                return Ok(LinearSolver::Bordered(Box::new(b)));
+            }
+        }
+        Ok(LinearSolver::Sparse(Box::new(SparseLu::new(pattern)?)))
     }
 
     /// Numeric factorization.
@@ -49,6 +58,7 @@ impl LinearSolver {
         match self {
             LinearSolver::Banded(b) => b.factor(pattern, vals),
             LinearSolver::Sparse(s) => s.factor(pattern, vals),
+            LinearSolver::Bordered(b) => b.factor(vals),
         }
     }
 
@@ -57,6 +67,7 @@ impl LinearSolver {
         match self {
             LinearSolver::Banded(lu) => lu.solve_in_place(b),
             LinearSolver::Sparse(s) => s.solve_in_place(b),
+            LinearSolver::Bordered(s) => s.solve_in_place(b),
         }
     }
 }

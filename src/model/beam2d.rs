@@ -562,6 +562,8 @@ impl Beam2d {
                 }
             },
             OutputKind::Reaction { port, axis } => self.port_force(port, axis),
+            // not declared by planar beam scenes
+            OutputKind::Belt(_) => f64::NAN,
         }
     }
 
@@ -668,7 +670,7 @@ impl Beam2d {
         match kind {
             InputKind::Load { load, axis } if axis < 2 => Some(&mut self.loads[load][axis]),
             InputKind::Motion { port, component } => Some(&mut self.motions[port][component]),
-            InputKind::Load { .. } | InputKind::Moment { .. } => None,
+            InputKind::Load { .. } | InputKind::Moment { .. } | InputKind::Pulley { .. } => None,
         }
     }
 }
@@ -729,6 +731,7 @@ impl Model for Beam2d {
                     EnergyKind::Total => dt + dv + du,
                 }
             }
+            OutputKind::Belt(_) => return None,
             // d/dt of the stiffness part of the reaction, K_c: v (inertia rates neglected).
             OutputKind::Reaction { port, axis } => -self
                 .port_rows(port, 0.0)

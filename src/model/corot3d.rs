@@ -493,7 +493,9 @@ impl Corot3dModel {
                     }
                 }
             }
-            OutputKind::Reaction { .. } => unreachable!("3D beam scenes declare no motion ports"),
+            OutputKind::Reaction { .. } | OutputKind::Belt(_) => {
+                unreachable!("3D beam scenes declare no motion ports and no pulleys")
+            }
             OutputKind::Energy(k) => match k {
                 EnergyKind::Kinetic => self.kinetic_energy(),
                 EnergyKind::Potential => self.potential_energy(),
@@ -670,7 +672,9 @@ impl Model for Corot3dModel {
         match kind {
             InputKind::Load { load, axis } => self.loads[load].values[axis] = value,
             InputKind::Moment { load, axis } => self.loads[load].values[3 + axis] = value,
-            InputKind::Motion { .. } => unreachable!("3D beam scenes declare no motion ports"),
+            InputKind::Motion { .. } | InputKind::Pulley { .. } => {
+                unreachable!("3D beam scenes declare no motion ports and no pulleys")
+            }
         }
     }
 

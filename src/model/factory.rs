@@ -2,6 +2,7 @@
 
 use super::Model;
 use super::beam2d::Beam2d;
+use super::belt_drive::BeltDrive;
 use super::corot3d::Corot3dModel;
 use crate::scene::{ParamValues, Scene, SceneKind};
 
@@ -12,5 +13,6 @@ pub fn build_model(scene: &Scene, params: &ParamValues) -> Result<Box<dyn Model>
     match scene.kind {
         SceneKind::Beam2d => Ok(Box::new(Beam2d::build(&scene.file, params)?)),
         SceneKind::Corot3d => Ok(Box::new(Corot3dModel::build(&scene.file, params)?)),
+        SceneKind::BeltDrive => Ok(Box::new(BeltDrive::build(&scene.file, params)?)),
     }
 }

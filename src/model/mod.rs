@@ -1,6 +1,8 @@
 //! Discretised models built from scenes, and the interface the solvers see.
 
 pub mod beam2d;
+pub mod belt_drive;
+pub mod belt_layout;
 pub mod corot3d;
 mod factory;
 pub mod inputs;

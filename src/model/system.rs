@@ -74,6 +74,12 @@ pub trait MechanicalSystem {
     /// values (incremental rotation vectors) absorbs them here and resets `q` consistently, so
     /// that load stepping can follow rotations of any size. The default does nothing.
     fn rebase(&mut self, _q: &mut [f64]) {}
+
+    /// Called with `true` before and `false` after a static solve. A model with coordinates
+    /// that have no static support (the angle of a free pulley driven only by inertia and an
+    /// input torque) holds them at their committed values meanwhile, so that the static
+    /// problem is not a mechanism. The default does nothing.
+    fn hold_for_statics(&mut self, _held: bool) {}
 }
 
 /// A model as the simulation driver and the FMU see it: a mechanical system with inputs,
@@ -143,5 +149,13 @@ pub trait Model: MechanicalSystem + Send {
     /// Restores what [`Model::save`] wrote.
     fn restore(&mut self, _r: &mut StateReader) -> Result<(), String> {
         Err("this model cannot restore a state".into())
+    }
+
+    /// Whether a change of this input calls for new consistent accelerations at the start of
+    /// the next step (default: yes). Inputs that change every communication step as a smooth
+    /// signal (a prescribed pulley angle) can say no: the integrator continues with its own
+    /// accelerations, which keeps the scheme's energy behaviour and saves a factorization.
+    fn input_restarts_accelerations(&self, _kind: crate::variables::InputKind) -> bool {
+        true
     }
 }

@@ -52,6 +52,16 @@ pub struct SceneFile {
     /// Further outputs.
     #[serde(default)]
     pub outputs: OutputsSection,
+    /// The belt of a belt-drive scene.
+    #[serde(default)]
+    pub belt: Option<BeltSection>,
+    /// Belt–pulley contact of a belt-drive scene.
+    #[serde(default)]
+    pub contact: Option<ContactSection>,
+    /// `[[pulley]]`: the pulleys of a belt-drive scene in the order the belt wraps them
+    /// (counter-clockwise); the first is `pulley1`.
+    #[serde(default)]
+    pub pulley: Vec<PulleySpec>,
     /// Initial motion (omit: the body starts at rest).
     #[serde(default)]
     pub initial: Option<InitialSection>,
@@ -121,6 +131,9 @@ pub enum ElementType {
     /// Seed 003: two-node co-rotational 3D beam (6 coordinates per node).
     #[serde(rename = "corotational_3d")]
     Corotational3d,
+    /// Gradient-deficient ANCF cable (r, r' per node, cubic Hermite): belts.
+    #[serde(rename = "ancf_cable_2d")]
+    AncfCable2d,
 }
 
 impl ElementType {
@@ -519,7 +532,103 @@ fn default_probe_quantities() -> Vec<ProbeQuantity> {
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputsSection {
-    /// Expose `energy.kinetic`, `energy.potential`, `energy.strain`, `energy.total` [J].
+    /// Expose `energy.kinetic`, `energy.potential`, `energy.strain`, `energy.total` [J]
+    /// (belt drives also `energy.input_work`, `energy.dissipated`).
     #[serde(default)]
     pub energy: bool,
+    /// Belt drives: number of equally spaced belt points exposed as `belt.point[i].x/y`
+    /// (default: `belt.n_elements`, i.e. the nodes).
+    #[serde(default)]
+    pub belt_points: Option<i64>,
+}
+
+/// `[belt]`: the belt as datasheets give it.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct BeltSection {
+    /// Axial stiffness [N].
+    pub EA: f64,
+    /// Bending stiffness [N m2].
+    pub EI: f64,
+    /// Mass per unit length [kg/m].
+    pub mass_per_length: f64,
+    /// Thickness [m]: the centre line runs at pulley radius + thickness/2.
+    pub thickness: f64,
+    /// Span tension at rest [N].
+    pub pretension: f64,
+    /// Number of belt elements.
+    pub n_elements: i64,
+    /// Axial material damping [N s].
+    #[serde(default)]
+    pub damping_axial: f64,
+    /// Bending material damping [N m2 s].
+    #[serde(default)]
+    pub damping_bending: f64,
+    /// Cable integration rule: `"full"` (1), `"reduced"` (2) or `"mixed"` (3).
+    #[serde(default = "default_belt_integration")]
+    pub integration: Choice,
+}
+
+fn default_belt_integration() -> Choice {
+    Choice::Name("full".into())
+}
+
+/// `[contact]`: belt–pulley contact; stiffness and damping 0 mean "derived from the belt".
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    /// Coulomb friction coefficient [1].
+    pub mu: f64,
+    /// Normal penalty stiffness per unit belt length [N/m2] (0: automatic).
+    #[serde(default)]
+    pub stiffness: f64,
+    /// Normal damping per unit belt length [N s/m2] (0: automatic).
+    #[serde(default)]
+    pub damping: f64,
+    /// Tangential (bristle) stiffness per unit belt length [N/m2] (0: automatic).
+    #[serde(default)]
+    pub friction_stiffness: f64,
+    /// Contact points per belt element.
+    #[serde(default = "default_contact_points")]
+    pub points_per_element: i64,
+}
+
+fn default_contact_points() -> i64 {
+    4
+}
+
+/// How a pulley moves.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PulleyMode {
+    /// Angle and angular velocity are inputs; the belt torque is an output.
+    Driven,
+    /// Rigid body with inertia inside the FMU; an input torque drives it.
+    Free,
+}
+
+/// `[[pulley]]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PulleySpec {
+    /// Centre [m] (for two pulleys the distance is the parameter `pulleys.center_distance`,
+    /// along the direction given here).
+    pub center: [f64; 2],
+    /// Radius [m] (the belt's inner face rests on it).
+    pub radius: f64,
+    /// Driven or free.
+    pub mode: PulleyMode,
+    /// Free pulleys: moment of inertia [kg m2].
+    #[serde(default)]
+    pub inertia: Option<f64>,
+    /// Free pulleys: viscous bearing damping [N m s/rad].
+    #[serde(default)]
+    pub damping: f64,
+    /// Start value of the input `pulleyN.omega` (driven) [rad/s].
+    #[serde(default)]
+    pub omega: f64,
+    /// Start value of the input `pulleyN.torque_in` (free) [N m].
+    #[serde(default)]
+    pub torque_in: f64,
 }

@@ -3,6 +3,7 @@
 //! which the variable table and the model are built.
 
 pub mod beam2d;
+pub mod belt_drive;
 pub mod corot3d;
 pub mod file;
 pub mod params;
@@ -19,6 +20,8 @@ use file::ElementType;
 pub enum SceneKind {
     /// A straight planar beam of seed-000 elements with supports, point loads and probes.
     Beam2d,
+    /// A closed belt (ANCF cable or seed-000 elements) around driven or free pulleys.
+    BeltDrive,
     /// A 3D beam of seed-003 co-rotational elements along a centre line of straight and
     /// circular pieces, with supports, point loads (forces and moments) and probes.
     Corot3d,
@@ -49,9 +52,18 @@ impl Scene {
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {
         let file: SceneFile =
             toml::from_str(text).map_err(|e| SceneError(format!("scene file: {e}")))?;
-        let kind = match file.element.kind {
-            ElementType::AncfShear2d => SceneKind::Beam2d,
-            ElementType::Corotational3d => SceneKind::Corot3d,
+        let kind = match (
+            file.element.kind,
+            file.belt.is_some() || !file.pulley.is_empty(),
+        ) {
+            (_, true) => SceneKind::BeltDrive,
+            (ElementType::AncfShear2d, false) => SceneKind::Beam2d,
+            (ElementType::Corotational3d, false) => SceneKind::Corot3d,
+            (ElementType::AncfCable2d, false) => {
+                return Err(SceneError(
+                    "scene file: element type \"ancf_cable_2d\" is the belt element: add [belt], [contact] and [[pulley]] tables".into(),
+                ));
+            }
         };
         let fail = |errs: Vec<String>| SceneError(format!("scene file: {}", errs.join("; ")));
         validate::check_common(&file).map_err(fail)?;
@@ -68,6 +80,13 @@ impl Scene {
                 (
                     corot3d::params(&file).map_err(|e| fail(vec![e]))?,
                     corot3d::io(&file),
+                )
+            }
+            SceneKind::BeltDrive => {
+                belt_drive::check(&file).map_err(fail)?;
+                (
+                    belt_drive::params(&file).map_err(|e| fail(vec![e]))?,
+                    belt_drive::io(&file),
                 )
             }
         };

@@ -217,7 +217,9 @@ impl Simulation {
     /// Sets an input; takes effect at the next advance (held constant over it).
     pub fn set_input(&mut self, kind: InputKind, value: f64) {
         self.model.set_input(kind, value);
-        self.inputs_changed = true;
+        if self.model.input_restarts_accelerations(kind) {
+            self.inputs_changed = true;
+        }
     }
 
     /// Current time [s].

@@ -1,7 +1,8 @@
 //! Static equilibrium `f_int(q) = λ f_ext` by Newton's method with adaptive load stepping and
 //! path following: each load increment starts from the tangent predictor, and an increment
 //! whose Newton correction exceeds `PATH_JUMP_RATIO` times the predictor is rejected as a jump
-//! to another equilibrium branch (a limit point, bifurcation or spurious mode) and cut.
+//! to another equilibrium branch (a limit point, bifurcation or spurious mode) and cut. The
+//! path starts from the equilibrium without load nearest to the start guess.
 
 use super::newton::{
     self, NewtonError, NewtonPolicy, NewtonSettings, NewtonStats, Workspace, scaled_max,
@@ -48,6 +49,20 @@ pub fn solve(
     settings: &NewtonSettings,
     load_steps: usize,
 ) -> Result<StaticStats, StaticError> {
+    sys.hold_for_statics(true);
+    let result = follow_load(sys, ws, q, settings, load_steps);
+    sys.hold_for_statics(false);
+    result
+}
+
+/// The load stepping of [`solve`].
+fn follow_load(
+    sys: &mut dyn MechanicalSystem,
+    ws: &mut Workspace,
+    q: &mut [f64],
+    settings: &NewtonSettings,
+    load_steps: usize,
+) -> Result<StaticStats, StaticError> {
     let n = q.len();
     let zeros = vec![0.0; n];
     let mut trial = q.to_vec();
@@ -65,6 +80,27 @@ pub fn solve(
         damping: 0.0,
         stiffness: 1.0,
     };
+    // A start guess out of equilibrium without load (a belt mounted with a shorter reference
+    // length) is not on the load path: its first increment cannot be checked against the path.
+    // (A failure here is left to the first increment, which reports it.)
+    let mut on_path = true;
+    if sys
+        .residual(
+            0.0,
+            q,
+            &zeros,
+            &zeros,
+            0.0,
+            &mut ws.r,
+            Some((coeffs, &mut ws.jac)),
+        )
+        .is_ok()
+        && ws.solver.factor(&ws.pattern, &ws.jac).is_ok()
+    {
+        ws.solver.solve_in_place(&mut ws.r);
+        let defect = scaled_max(&ws.r, 1.0, &ws.scales);
+        on_path = defect.is_nan() || defect <= settings.tolerance;
+    }
     while lambda < 1.0 {
         let target = (lambda + dl).min(1.0);
         let mut attempt = || -> Result<NewtonStats, String> {
@@ -102,7 +138,7 @@ pub fn solve(
                 predictor[i] = trial[i] - q[i] - predictor[i];
             }
             let corr = scaled_max(&predictor, 1.0, &ws.scales);
-            if corr > PATH_JUMP_RATIO * pred && corr > settings.tolerance {
+            if on_path && corr > PATH_JUMP_RATIO * pred && corr > settings.tolerance {
                 return Err(format!(
                     "the Newton correction ({corr:.2e}) exceeds the tangent predictor ({pred:.2e}): the solution jumped off the load path"
                 ));
@@ -115,6 +151,7 @@ pub fn solve(
                 stats.increments += 1;
                 q.copy_from_slice(&trial);
                 sys.rebase(q);
+                on_path = true;
                 lambda = target;
                 if s.iterations <= settings.max_iterations / 3 {
                     dl *= 2.0;

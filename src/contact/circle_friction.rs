@@ -1,0 +1,526 @@
+//! Penalty contact with elasto-plastic ("bristle") Coulomb friction between a material point of
+//! a belt centre line and a rotating circle (pulley), with the consistent tangent for implicit
+//! integration.
+//!
+//! After the point-wise penalty contact of Kerkkänen et al. 2006 and Dufva et al. 2007 and the
+//! bristle friction of Exudyn's `ObjectContactFrictionCircleCable2D` (reference
+//! `shared/reference/belt-drive.md` E.2), written as a return mapping (Wriggers, Computational
+//! Contact Mechanics, 2nd ed., §5.2: friction as elasto-plasticity):
+//!
+//! * geometry: `d = r − c`, `ρ = |d|`, normal `n = d/ρ`, tangent `t = (−n_y, n_x)`
+//!   (counter-clockwise), gap `g = ρ − R` with `R` = pulley radius + half the belt thickness
+//!   (the centre line runs at the pitch radius);
+//! * normal pressure per unit belt length `p = p_e(δ) − d_n ġ s(δ)` (`δ = −g`, `ġ = v·n`),
+//!   active while `δ > 0` and `p > 0`; force on the belt `w p n` (`w` = belt length the point
+//!   stands for). The penalty is smoothed over a small penetration `δ0`: `p_e = k_n δ²/(2δ0)`
+//!   and `s = δ/δ0` for `δ < δ0`, `p_e = k_n (δ − δ0/2)` and `s = 1` beyond, so that the force
+//!   is C¹ in the gap: a belt leaves and meets a pulley tangentially, points sit at `g ≈ 0`, and
+//!   a kinked penalty makes Newton's method cycle between "in" and "out" there;
+//! * relative slip of the belt over the pulley surface, measured in the pulley frame:
+//!   increment over a step `Δs = ρ (Δφ − Δθ)` (`φ` = polar angle of the point, `θ` = pulley
+//!   angle), so pure rolling (`Δφ = Δθ`) creates no force at any step size; slip rate
+//!   `ṡ = v·t − ω ρ`;
+//! * friction per unit length: trial `f* = k_t (z_n + Δs) + d_t ṡ` (`z` = bristle deflection);
+//!   stick if `|f*| ≤ μ p` (`f = f*`), else slip with `f = μ p sign(f*)`, blended C¹ over
+//!   `|f*|/(μp) ∈ [1 − ε, 1 + ε]` ([`stick_slip`]); new deflection `z = f/k_t`; force on the
+//!   belt `−w f t`, torque on the pulley `τ = ρ w f`.
+
+use nalgebra::{Matrix3, Vector2};
+
+/// Contact and friction constants (per unit belt length).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactLaw {
+    /// Normal penalty stiffness `k_n` [N/m²].
+    pub k_n: f64,
+    /// Normal damping `d_n` [N s/m²].
+    pub d_n: f64,
+    /// Tangential (bristle) stiffness `k_t` [N/m²].
+    pub k_t: f64,
+    /// Tangential damping in stick `d_t` [N s/m²].
+    pub d_t: f64,
+    /// Coulomb friction coefficient `μ` [1].
+    pub mu: f64,
+    /// Penetration over which the penalty stiffness ramps up from 0 to `k_n` [m] (0: a
+    /// kinked penalty).
+    pub smoothing: f64,
+    /// Relative half width `ε` of the C¹ blend between stick and Coulomb sliding (see
+    /// [`stick_slip`]; 0: exact elasto-plastic law).
+    pub blend: f64,
+}
+
+/// A pulley as the contact sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Circle {
+    /// Centre [m] (fixed).
+    pub center: Vector2<f64>,
+    /// Contact radius of the belt centre line `R` = pulley radius + half belt thickness [m].
+    pub radius: f64,
+}
+
+/// Committed history of one (belt point, pulley) pair.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PointHistory {
+    /// Polar angle of the point about the pulley centre at the last accepted step [rad].
+    pub phi: f64,
+    /// Pulley angle at the last accepted step [rad].
+    pub theta: f64,
+    /// Bristle deflection [m] (0 out of contact).
+    pub z: f64,
+    /// Friction force per unit length `f` at the last accepted step [N/m] (0 out of contact).
+    pub f: f64,
+}
+
+/// Kinematic state of a point and its pulley.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointState {
+    /// Position of the belt point [m].
+    pub r: Vector2<f64>,
+    /// Its velocity [m/s].
+    pub v: Vector2<f64>,
+    /// Pulley angle [rad].
+    pub theta: f64,
+    /// Pulley angular velocity [rad/s].
+    pub omega: f64,
+}
+
+/// Result of an active contact point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointContact {
+    /// Force on the belt point [N].
+    pub force: Vector2<f64>,
+    /// Torque on the pulley about its centre [N m] (counter-clockwise positive).
+    pub torque: f64,
+    /// New bristle deflection [m].
+    pub z: f64,
+    /// Whether the point slips.
+    pub slipping: bool,
+    /// Normal pressure [N/m].
+    pub pressure: f64,
+    /// Gap [m] (negative: penetration).
+    pub gap: f64,
+    /// Slip rate `ṡ` [m/s].
+    pub slip_rate: f64,
+    /// Elastic energy of the normal penalty `w ∫ p_e dδ` [J].
+    pub normal_energy: f64,
+    /// Dissipated power of the normal damping `w d_n s ġ²` [W].
+    pub dissipation: f64,
+    /// Friction force per unit length `f` (the belt receives `−w f t`) [N/m].
+    pub friction: f64,
+    /// Slip increment `Δs` since the last accepted step [m].
+    pub slip_increment: f64,
+    /// `∂(F_x, F_y, τ)/∂(r_x, r_y, θ)`.
+    pub k: Matrix3<f64>,
+    /// `∂(F_x, F_y, τ)/∂(v_x, v_y, ω)`.
+    pub c: Matrix3<f64>,
+}
+
+/// The stick–slip map `φ(x)` for `x = |f*|/(μ p) ≥ 0` and its slope: `φ = x` (stick) for
+/// `x ≤ 1 − ε`, `φ = 1` (Coulomb sliding) for `x ≥ 1 + ε`, and the C¹ quadratic
+/// `1 − (1 + ε − x)²/(4ε)` between, so that the iteration matrix does not jump between the
+/// stick stiffness and zero when a point changes state (a jump makes Newton's method cycle).
+/// `ε = 0` gives the exact (kinked) elasto-plastic law.
+#[inline]
+pub fn stick_slip(x: f64, eps: f64) -> (f64, f64) {
+    if x <= 1.0 - eps {
+        (x, 1.0)
+    } else if x >= 1.0 + eps {
+        (1.0, 0.0)
+    } else {
+        let u = 1.0 + eps - x;
+        (1.0 - u * u / (4.0 * eps), u / (2.0 * eps))
+    }
+}
+
+/// Wraps an angle difference into (−π, π].
+#[inline]
+pub fn wrap_angle(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let mut x = a % TAU;
+    if x > PI {
+        x -= TAU;
+    } else if x <= -PI {
+        x += TAU;
+    }
+    x
+}
+
+/// Polar angle of `r` about the circle's centre [rad].
+#[inline]
+pub fn polar_angle(circle: &Circle, r: Vector2<f64>) -> f64 {
+    let d = r - circle.center;
+    d.y.atan2(d.x)
+}
+
+/// Contact of a belt point standing for the length `w` [m] with history `hist`; `None` when
+/// out of contact (then the bristle is relaxed: `z = 0`).
+pub fn evaluate(
+    law: &ContactLaw,
+    circle: &Circle,
+    w: f64,
+    s: &PointState,
+    hist: &PointHistory,
+) -> Option<PointContact> {
+    let d = s.r - circle.center;
+    let rho2 = d.norm_squared();
+    if rho2 >= circle.radius * circle.radius {
+        return None;
+    }
+    let rho = rho2.sqrt();
+    let n = d / rho;
+    let t = Vector2::new(-n.y, n.x);
+    let g = rho - circle.radius;
+    let delta = -g;
+    let (vn, vt) = (s.v.dot(&n), s.v.dot(&t));
+    let d0 = law.smoothing;
+    // elastic pressure, its slope, the damping ramp and its slope, the elastic energy density
+    let (pe, dpe, ramp, dramp, ue) = if delta < d0 {
+        (
+            law.k_n * delta * delta / (2.0 * d0),
+            law.k_n * delta / d0,
+            delta / d0,
+            1.0 / d0,
+            law.k_n * delta.powi(3) / (6.0 * d0),
+        )
+    } else {
+        (
+            law.k_n * (delta - 0.5 * d0),
+            law.k_n,
+            1.0,
+            0.0,
+            law.k_n * (0.5 * delta * delta - 0.5 * d0 * delta + d0 * d0 / 6.0),
+        )
+    };
+    let p = pe - law.d_n * vn * ramp;
+    if p <= 0.0 {
+        return None;
+    }
+    // ∂p/∂d, ∂p/∂v (row vectors as 2-vectors); ∂δ/∂d = −n, ∂ġ/∂d = (v·t)/ρ t
+    let dp_dd = -(dpe - law.d_n * vn * dramp) * n - (law.d_n * ramp * vt / rho) * t;
+    let dp_dv = -law.d_n * ramp * n;
+
+    // Slip increment and rate.
+    let phi = d.y.atan2(d.x);
+    let dphi = wrap_angle(phi - hist.phi);
+    let dtheta = s.theta - hist.theta;
+    let ds = rho * (dphi - dtheta);
+    let sdot = vt - s.omega * rho;
+    let z_trial = hist.z + ds;
+    let f_trial = law.k_t * z_trial + law.d_t * sdot;
+    let cap = law.mu * p;
+    // derivatives of the trial force
+    let dds_dd = (dphi - dtheta) * n + t;
+    let dsdot_dd = -(vn / rho) * t - s.omega * n;
+    let dftr_dd = law.k_t * dds_dd + law.d_t * dsdot_dd;
+    let dftr_dv = law.d_t * t;
+    let dftr_dth = -law.k_t * rho;
+    let dftr_dom = -law.d_t * rho;
+    // f = cap φ(f*/cap): ∂f = φ' ∂f* + (φ − x φ') ∂cap, ∂cap = μ ∂p
+    let (f, dphi_dx, rest) = if cap > 0.0 {
+        let x = f_trial / cap;
+        let (ph, dph) = stick_slip(x.abs(), law.blend);
+        let ph = ph.copysign(x);
+        (cap * ph, dph, ph - x * dph)
+    } else {
+        (0.0, 0.0, 0.0)
+    };
+    let slipping = cap <= 0.0 || f_trial.abs() >= cap;
+    let z = if law.k_t > 0.0 { f / law.k_t } else { 0.0 };
+    // friction force on the belt along t: f_t = −w f
+    let f_t = -w * f;
+    let dft_dd = -w * (dphi_dx * dftr_dd + rest * law.mu * dp_dd);
+    let dft_dv = -w * (dphi_dx * dftr_dv + rest * law.mu * dp_dv);
+    let dft_dth = -w * dphi_dx * dftr_dth;
+    let dft_dom = -w * dphi_dx * dftr_dom;
+    let force = (w * p) * n + f_t * t;
+    let torque = -rho * f_t;
+
+    // ∂F/∂d = w n ∂p/∂d + w p t tᵀ/ρ + t ∂f_t/∂d − f_t n tᵀ/ρ
+    let mut k = Matrix3::zeros();
+    let mut c = Matrix3::zeros();
+    for i in 0..2 {
+        for j in 0..2 {
+            k[(i, j)] = w * n[i] * dp_dd[j] + (w * p / rho) * t[i] * t[j] + t[i] * dft_dd[j]
+                - (f_t / rho) * n[i] * t[j];
+            c[(i, j)] = w * n[i] * dp_dv[j] + t[i] * dft_dv[j];
+        }
+        k[(i, 2)] = t[i] * dft_dth;
+        c[(i, 2)] = t[i] * dft_dom;
+    }
+    // τ = −ρ f_t
+    for j in 0..2 {
+        k[(2, j)] = -f_t * n[j] - rho * dft_dd[j];
+        c[(2, j)] = -rho * dft_dv[j];
+    }
+    k[(2, 2)] = -rho * dft_dth;
+    c[(2, 2)] = -rho * dft_dom;
+
+    Some(PointContact {
+        force,
+        torque,
+        z,
+        slipping,
+        pressure: p,
+        gap: g,
+        slip_rate: sdot,
+        normal_energy: ue * w,
+        dissipation: w * law.d_n * ramp * vn * vn,
+        friction: f,
+        slip_increment: ds,
+        k,
+        c,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn law() -> ContactLaw {
+        ContactLaw {
+            k_n: 2e7,
+            d_n: 3e3,
+            k_t: 1e7,
+            d_t: 1e3,
+            mu: 0.3,
+            smoothing: 5e-6,
+            blend: 0.05,
+        }
+    }
+
+    fn circle() -> Circle {
+        Circle {
+            center: Vector2::new(0.2, -0.1),
+            radius: 0.1,
+        }
+    }
+
+    /// Finite-difference check of k and c for a state (stick or slip decided by the state).
+    fn check_jacobians(s: PointState, h: PointHistory, expect_slip: bool) {
+        let (law, cir, w) = (law(), circle(), 4e-3);
+        let res = evaluate(&law, &cir, w, &s, &h).expect("in contact");
+        assert_eq!(res.slipping, expect_slip);
+        let out = |s: &PointState| {
+            let r = evaluate(&law, &cir, w, s, &h).unwrap();
+            nalgebra::Vector3::new(r.force.x, r.force.y, r.torque)
+        };
+        let eps = 1e-9;
+        let scale = out(&s).norm();
+        for j in 0..3 {
+            let (mut sp, mut sm) = (s, s);
+            match j {
+                0 => {
+                    sp.r.x += eps;
+                    sm.r.x -= eps
+                }
+                1 => {
+                    sp.r.y += eps;
+                    sm.r.y -= eps
+                }
+                _ => {
+                    sp.theta += eps;
+                    sm.theta -= eps
+                }
+            }
+            let fd = (out(&sp) - out(&sm)) / (2.0 * eps);
+            let err = (fd - res.k.column(j)).norm();
+            assert!(
+                err <= 1e-6 * res.k.norm(),
+                "k column {j}: {fd} vs {}",
+                res.k.column(j)
+            );
+            let (mut sp, mut sm) = (s, s);
+            match j {
+                0 => {
+                    sp.v.x += eps;
+                    sm.v.x -= eps
+                }
+                1 => {
+                    sp.v.y += eps;
+                    sm.v.y -= eps
+                }
+                _ => {
+                    sp.omega += eps;
+                    sm.omega -= eps
+                }
+            }
+            let fd = (out(&sp) - out(&sm)) / (2.0 * eps);
+            let err = (fd - res.c.column(j)).norm();
+            assert!(
+                err <= 1e-6 * res.c.norm().max(scale),
+                "c column {j}: {fd} vs {}",
+                res.c.column(j)
+            );
+        }
+    }
+
+    fn at(angle: f64, rho: f64) -> Vector2<f64> {
+        circle().center + rho * Vector2::new(angle.cos(), angle.sin())
+    }
+
+    #[test]
+    fn stick_tangent_matches_finite_differences() {
+        let s = PointState {
+            r: at(0.7, 0.1 - 2e-5),
+            v: Vector2::new(-0.3, 0.2),
+            theta: 0.31,
+            omega: 4.0,
+        };
+        let h = PointHistory {
+            phi: 0.7 - 1e-4,
+            theta: 0.3101,
+            z: 1e-7,
+            f: 0.0,
+        };
+        check_jacobians(s, h, false);
+    }
+
+    /// Inside the smoothing zone of the penalty (δ < δ0).
+    #[test]
+    fn tangent_in_the_smoothing_zone() {
+        let s = PointState {
+            r: at(-0.4, 0.1 - 2e-6),
+            v: Vector2::new(0.1, 0.3),
+            theta: 0.0,
+            omega: 2.0,
+        };
+        let h = PointHistory {
+            phi: -0.4 + 2e-4,
+            theta: 0.0,
+            z: 0.0,
+            f: 0.0,
+        };
+        check_jacobians(s, h, true);
+        let s2 = PointState {
+            r: at(-0.4, 0.1 - 2e-6),
+            v: Vector2::new(0.0, 0.0),
+            theta: 0.0,
+            omega: 0.0,
+        };
+        let h2 = PointHistory {
+            phi: -0.4,
+            theta: 0.0,
+            z: 1e-9,
+            f: 0.0,
+        };
+        check_jacobians(s2, h2, false);
+    }
+
+    #[test]
+    fn slip_tangent_matches_finite_differences() {
+        let s = PointState {
+            r: at(2.2, 0.1 - 3e-5),
+            v: Vector2::new(1.0, 0.5),
+            theta: 1.0,
+            omega: -3.0,
+        };
+        let h = PointHistory {
+            phi: 2.1,
+            theta: 0.9,
+            z: 0.0,
+            f: 0.0,
+        };
+        check_jacobians(s, h, true);
+    }
+
+    /// Pure rolling at pitch radius: the point moves with the pulley, no friction force, the
+    /// force is the normal pressure only.
+    #[test]
+    fn pure_rolling_has_no_friction() {
+        let (law, cir) = (law(), circle());
+        let rho = 0.1 - 1e-5;
+        let omega = 5.0;
+        let (th0, th1): (f64, f64) = (0.2, 0.25);
+        let phi0: f64 = 1.0;
+        let phi1 = phi0 + (th1 - th0);
+        let n = Vector2::new(phi1.cos(), phi1.sin());
+        let t = Vector2::new(-n.y, n.x);
+        let s = PointState {
+            r: at(phi1, rho),
+            v: omega * rho * t,
+            theta: th1,
+            omega,
+        };
+        let h = PointHistory {
+            phi: phi0,
+            theta: th0,
+            z: 0.0,
+            f: 0.0,
+        };
+        let r = evaluate(&law, &cir, 1e-2, &s, &h).unwrap();
+        assert!(!r.slipping);
+        assert!(r.torque.abs() < 1e-9, "{}", r.torque);
+        let expect = 1e-2 * law.k_n * (1e-5 - 0.5 * law.smoothing);
+        assert!((r.force - expect * n).norm() < 1e-9);
+    }
+
+    /// Sliding: tangential force = μ × normal force, opposing the slip; torque = ρ × friction.
+    #[test]
+    fn sliding_force_is_mu_times_normal_force() {
+        let (law, cir) = (law(), circle());
+        let s = PointState {
+            r: at(0.0, 0.1 - 1e-4),
+            v: Vector2::new(0.0, 0.0),
+            theta: 0.0,
+            omega: 0.0,
+        };
+        // the belt point moved by +1 mm along t (counter-clockwise) relative to the pulley
+        let h = PointHistory {
+            phi: -1e-3 / 0.1,
+            theta: 0.0,
+            z: 0.0,
+            f: 0.0,
+        };
+        let r = evaluate(&law, &cir, 1e-2, &s, &h).unwrap();
+        assert!(r.slipping);
+        let fn_ = 1e-2 * law.k_n * (1e-4 - 0.5 * law.smoothing);
+        assert!((r.force.x - fn_).abs() < 1e-9);
+        assert!((r.force.y + law.mu * fn_).abs() < 1e-9, "{}", r.force.y);
+        assert!((r.torque - (0.1 - 1e-4) * law.mu * fn_).abs() < 1e-9);
+        // out of contact: nothing
+        let far = PointState {
+            r: at(0.0, 0.1 + 1e-6),
+            ..s
+        };
+        assert!(evaluate(&law, &cir, 1e-2, &far, &h).is_none());
+    }
+
+    /// In the blend zone between stick and slip (|f*| ≈ μ p).
+    #[test]
+    fn tangent_in_the_stick_slip_blend() {
+        let law = law();
+        // find a slip increment that puts f* at 1.02 μ p: f* = k_t ρ Δφ, p ≈ k_n (δ − δ0/2)
+        let delta = 2e-5;
+        let p = law.k_n * (delta - 0.5 * law.smoothing);
+        let dphi = 1.02 * law.mu * p / (law.k_t * (0.1 - delta));
+        let s = PointState {
+            r: at(1.0, 0.1 - delta),
+            v: Vector2::zeros(),
+            theta: 0.0,
+            omega: 0.0,
+        };
+        let h = PointHistory {
+            phi: 1.0 - dphi,
+            theta: 0.0,
+            z: 0.0,
+            f: 0.0,
+        };
+        let r = evaluate(&law, &circle(), 1e-3, &s, &h).unwrap();
+        let ratio =
+            -r.force.dot(&Vector2::new(-(1.0f64).sin(), 1.0f64.cos())) / (1e-3 * law.mu * p);
+        assert!(ratio > 0.99 && ratio < 1.0, "{ratio}");
+        check_jacobians(s, h, true);
+        // the map is C¹ at both ends of the blend
+        for x in [0.95, 1.05] {
+            let (a, da) = stick_slip(x - 1e-9, 0.05);
+            let (b, db) = stick_slip(x + 1e-9, 0.05);
+            assert!((a - b).abs() < 1e-8 && (da - db).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn wraps_angles() {
+        assert!((wrap_angle(3.0 * std::f64::consts::PI) - std::f64::consts::PI).abs() < 1e-12);
+        assert!((wrap_angle(-0.1) + 0.1).abs() < 1e-15);
+        assert!((wrap_angle(6.2) - (6.2 - std::f64::consts::TAU)).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,735 @@
+//! Gradient-deficient ANCF cable element in 2D (belts, ropes, thin beams).
+//!
+//! Formulation as documented for Exudyn's `ObjectANCFCable2D` (interpolation after Berzeri &
+//! Shabana 2000, elastic forces after Gerstmayr & Irschik 2008), summarised in
+//! `shared/reference/belt-drive.md` E.1:
+//! * coordinates per node: position `r` and axial slope `r' = ∂r/∂x` (2-vectors); element
+//!   `q = [r0, r0', r1, r1']` (8 coordinates), `x ∈ [0, L]` the arc length of the stress-free
+//!   reference configuration (so `L` is the *unstretched* element length: a belt mounted with
+//!   pre-tension has elements shorter than their mounted length);
+//! * cubic Hermite shape functions `S1 = 1 − 3ξ² + 2ξ³`, `S2 = L(ξ − 2ξ² + ξ³)`,
+//!   `S3 = 3ξ² − 2ξ³`, `S4 = L(−ξ² + ξ³)`, `ξ = x/L`;
+//! * axial (engineering) strain `ε = |r'| − 1`, material curvature
+//!   `K = (r' × r'')/|r'|²` (the rate of the tangent angle per unit reference length);
+//! * `δW_int = ∫ (N δε + M δK) dx` with `N = EA(ε − ε0) + d_ε ε̇` and `M = EI(K − K0) + d_K K̇`;
+//!   axial stiffness `EA` and bending stiffness `EI` are independent (a cord-reinforced belt is
+//!   not a homogeneous beam); `ε0` is an optional prescribed pre-strain, `K0 = 0` (straight
+//!   reference).
+//!
+//! The file follows the fixed order of every element: shape functions, mass, internal forces,
+//! tangent.
+
+use super::quadrature::{gauss_legendre, lobatto3};
+use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
+
+/// Coordinates per node (position and axial slope, both 2-vectors).
+pub const NODE_COORDS: usize = 4;
+/// Coordinates per element.
+pub const ELEMENT_COORDS: usize = 8;
+/// Element coordinate vector `q = [r0, r0', r1, r1']`.
+pub type ElemVec = SVector<f64, ELEMENT_COORDS>;
+/// Element matrix (mass, tangent, damping).
+pub type ElemMat = SMatrix<f64, ELEMENT_COORDS, ELEMENT_COORDS>;
+
+/// Section data of a cable as belt datasheets give them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CableSection {
+    /// Axial stiffness `EA` [N].
+    pub ea: f64,
+    /// Bending stiffness `EI` [N m²].
+    pub ei: f64,
+    /// Mass per unit reference (unstretched) length `ρA` [kg/m].
+    pub mass_per_length: f64,
+    /// Axial material damping `d_ε` [N s]: `N_d = d_ε ε̇`.
+    pub damping_axial: f64,
+    /// Bending material damping `d_K` [N m² s]: `M_d = d_K K̇`.
+    pub damping_bending: f64,
+    /// Prescribed pre-strain `ε0` [1] (stress-free axial strain; negative pre-strain tensions a
+    /// cable mounted at its reference length).
+    pub prestrain: f64,
+}
+
+/// Integration rule of the elastic forces (options of reference E.1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CableRule {
+    /// 5 Gauss points for the axial terms, 3 for the bending terms.
+    Full,
+    /// 4 Gauss points for the axial terms, 2 for the bending terms.
+    Reduced,
+    /// Lobatto 3 points `{0, L/2, L}` for the axial terms, 2 Gauss points for bending: decouples
+    /// axial from bending strain and gives smooth axial forces in belts.
+    Mixed,
+}
+
+/// One integration point: weight [m] and the first and second derivatives of the four shape
+/// functions with respect to `x` (`S2`, `S4` carry the length factor).
+#[derive(Clone, Copy, Debug, Default)]
+struct Point {
+    w: f64,
+    d1: [f64; 4],
+    d2: [f64; 4],
+}
+
+/// One cable element: reference length, section and integration points.
+#[derive(Clone, Debug)]
+pub struct AncfCable2d {
+    length: f64,
+    section: CableSection,
+    axial: [Point; 5],
+    n_axial: usize,
+    bending: [Point; 3],
+    n_bending: usize,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shape functions
+// ---------------------------------------------------------------------------------------------
+
+/// Shape functions `[S1, S2, S3, S4]` at `x ∈ [0, l]` (cubic Hermite; `S2`, `S4` multiply the
+/// slopes and carry the length).
+pub fn shape_functions(l: f64, x: f64) -> [f64; 4] {
+    let xi = x / l;
+    let (x2, x3) = (xi * xi, xi * xi * xi);
+    [
+        1.0 - 3.0 * x2 + 2.0 * x3,
+        l * (xi - 2.0 * x2 + x3),
+        3.0 * x2 - 2.0 * x3,
+        l * (-x2 + x3),
+    ]
+}
+
+/// First derivatives `∂S_a/∂x` [1/m for S1, S3; 1 for S2, S4].
+pub fn shape_d1(l: f64, x: f64) -> [f64; 4] {
+    let xi = x / l;
+    [
+        (-6.0 * xi + 6.0 * xi * xi) / l,
+        1.0 - 4.0 * xi + 3.0 * xi * xi,
+        (6.0 * xi - 6.0 * xi * xi) / l,
+        -2.0 * xi + 3.0 * xi * xi,
+    ]
+}
+
+/// Second derivatives `∂²S_a/∂x²`.
+pub fn shape_d2(l: f64, x: f64) -> [f64; 4] {
+    let xi = x / l;
+    [
+        (-6.0 + 12.0 * xi) / (l * l),
+        (-4.0 + 6.0 * xi) / l,
+        (6.0 - 12.0 * xi) / (l * l),
+        (-2.0 + 6.0 * xi) / l,
+    ]
+}
+
+/// `Σ_a s_a q_a`: a field (position, slope or curvature vector) from the coordinates.
+#[inline]
+fn combine(s: &[f64; 4], q: &ElemVec) -> Vector2<f64> {
+    let mut v = Vector2::zeros();
+    for a in 0..4 {
+        v.x += s[a] * q[2 * a];
+        v.y += s[a] * q[2 * a + 1];
+    }
+    v
+}
+
+/// Position `r(x) = S(x) q` [m].
+pub fn position(q: &ElemVec, l: f64, x: f64) -> Vector2<f64> {
+    combine(&shape_functions(l, x), q)
+}
+
+/// Reference coordinates of a straight element from `p0` to `p1` (slopes = unit tangent
+/// times `stretch`, the ratio of mounted to reference length).
+pub fn straight_coordinates(p0: Vector2<f64>, p1: Vector2<f64>, stretch: f64) -> ElemVec {
+    let t = (p1 - p0).normalize() * stretch;
+    ElemVec::from_column_slice(&[p0.x, p0.y, t.x, t.y, p1.x, p1.y, t.x, t.y])
+}
+
+/// Strain quantities at one point: the first-derivative vectors and the strains.
+struct Kinematics {
+    /// `∂ε/∂q` (8)
+    de: ElemVec,
+    /// `∂K/∂q` (8)
+    dk: ElemVec,
+    eps: f64,
+    curv: f64,
+}
+
+impl AncfCable2d {
+    /// Element of reference (stress-free) length `length` [m].
+    pub fn new(length: f64, section: CableSection, rule: CableRule) -> Self {
+        let mk = |xi01: f64, w: f64| {
+            let x = xi01 * length;
+            Point {
+                w: w * 0.5 * length,
+                d1: shape_d1(length, x),
+                d2: shape_d2(length, x),
+            }
+        };
+        let mut axial = [Point::default(); 5];
+        let mut bending = [Point::default(); 3];
+        type Rule = &'static [(f64, f64)];
+        let (ra, rb): (Rule, Rule) = match rule {
+            CableRule::Full => (gauss_legendre(5), gauss_legendre(3)),
+            CableRule::Reduced => (gauss_legendre(4), gauss_legendre(2)),
+            CableRule::Mixed => (lobatto3(), gauss_legendre(2)),
+        };
+        for (i, &(p, w)) in ra.iter().enumerate() {
+            axial[i] = mk(0.5 * (p + 1.0), w);
+        }
+        for (i, &(p, w)) in rb.iter().enumerate() {
+            bending[i] = mk(0.5 * (p + 1.0), w);
+        }
+        Self {
+            length,
+            section,
+            axial,
+            n_axial: ra.len(),
+            bending,
+            n_bending: rb.len(),
+        }
+    }
+
+    /// Reference length `L` [m].
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// Section data.
+    pub fn section(&self) -> &CableSection {
+        &self.section
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Mass and gravity
+    // -----------------------------------------------------------------------------------------
+
+    /// Constant mass matrix `M = ∫ ρA Sᵀ S dx` [kg, kg m, kg m²], integrated with 4 Gauss
+    /// points (exact for the cubic shape functions).
+    pub fn mass(&self) -> ElemMat {
+        let l = self.length;
+        let mut m4 = nalgebra::Matrix4::<f64>::zeros();
+        for &(p, w) in gauss_legendre(4) {
+            let s = nalgebra::Vector4::from(shape_functions(l, 0.5 * (p + 1.0) * l));
+            m4 += (self.section.mass_per_length * w * 0.5 * l) * s * s.transpose();
+        }
+        let mut m = ElemMat::zeros();
+        for a in 0..4 {
+            for b in 0..4 {
+                m[(2 * a, 2 * b)] = m4[(a, b)];
+                m[(2 * a + 1, 2 * b + 1)] = m4[(a, b)];
+            }
+        }
+        m
+    }
+
+    /// Generalized gravity force `Q_g = ∫ ρA Sᵀ g dx` [N] for acceleration `g` [m/s²]:
+    /// `ρA L [g/2, L g/12, g/2, −L g/12]`.
+    pub fn gravity(&self, g: Vector2<f64>) -> ElemVec {
+        let (l, m) = (self.length, self.section.mass_per_length);
+        let f = [0.5 * l, l * l / 12.0, 0.5 * l, -l * l / 12.0];
+        let mut q = ElemVec::zeros();
+        for a in 0..4 {
+            q[2 * a] = m * f[a] * g.x;
+            q[2 * a + 1] = m * f[a] * g.y;
+        }
+        q
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Internal forces
+    // -----------------------------------------------------------------------------------------
+
+    /// Axial strain `ε = |r'| − 1` and its gradient at a point.
+    #[inline]
+    fn axial_kin(p: &Point, q: &ElemVec) -> (Vector2<f64>, f64, f64, ElemVec) {
+        let rp = combine(&p.d1, q);
+        let len = rp.norm();
+        let u = rp / len;
+        let mut de = ElemVec::zeros();
+        for a in 0..4 {
+            de[2 * a] = p.d1[a] * u.x;
+            de[2 * a + 1] = p.d1[a] * u.y;
+        }
+        (u, len, len - 1.0, de)
+    }
+
+    /// Curvature `K = c/g` (`c = r' × r''`, `g = r'·r'`) and the gradients of `c`, `g`, `K`.
+    #[inline]
+    fn bending_kin(p: &Point, q: &ElemVec) -> (f64, f64, f64, ElemVec, ElemVec, ElemVec) {
+        let rp = combine(&p.d1, q);
+        let rpp = combine(&p.d2, q);
+        let c = rp.x * rpp.y - rp.y * rpp.x;
+        let g = rp.dot(&rp);
+        let k = c / g;
+        let (mut dc, mut dg) = (ElemVec::zeros(), ElemVec::zeros());
+        for a in 0..4 {
+            // ∂c/∂r' = (r''_y, −r''_x), ∂c/∂r'' = (−r'_y, r'_x)
+            dc[2 * a] = p.d1[a] * rpp.y - p.d2[a] * rp.y;
+            dc[2 * a + 1] = -p.d1[a] * rpp.x + p.d2[a] * rp.x;
+            dg[2 * a] = 2.0 * p.d1[a] * rp.x;
+            dg[2 * a + 1] = 2.0 * p.d1[a] * rp.y;
+        }
+        let dk = dc / g - dg * (c / (g * g));
+        (c, g, k, dc, dg, dk)
+    }
+
+    /// Strain energy `U = ∫ ½EA(ε − ε0)² + ½EI K² dx` [J].
+    pub fn strain_energy(&self, q: &ElemVec) -> f64 {
+        let s = &self.section;
+        let mut u = 0.0;
+        for p in &self.axial[..self.n_axial] {
+            let (_, _, eps, _) = Self::axial_kin(p, q);
+            u += 0.5 * p.w * s.ea * (eps - s.prestrain).powi(2);
+        }
+        for p in &self.bending[..self.n_bending] {
+            let (_, _, k, _, _, _) = Self::bending_kin(p, q);
+            u += 0.5 * p.w * s.ei * k * k;
+        }
+        u
+    }
+
+    /// Axial force `N = EA(ε − ε0)` [N] at `x` (elastic part).
+    pub fn axial_force(&self, q: &ElemVec, x: f64) -> f64 {
+        let rp = combine(&shape_d1(self.length, x), q);
+        self.section.ea * (rp.norm() - 1.0 - self.section.prestrain)
+    }
+
+    /// Dissipated power of the material damping `∫ d_ε ε̇² + d_K K̇² dx` [W].
+    pub fn damping_power(&self, q: &ElemVec, qd: &ElemVec) -> f64 {
+        let s = &self.section;
+        let mut pw = 0.0;
+        if s.damping_axial != 0.0 {
+            for p in &self.axial[..self.n_axial] {
+                let (_, _, _, de) = Self::axial_kin(p, q);
+                pw += p.w * s.damping_axial * de.dot(qd).powi(2);
+            }
+        }
+        if s.damping_bending != 0.0 {
+            for p in &self.bending[..self.n_bending] {
+                let (_, _, _, _, _, dk) = Self::bending_kin(p, q);
+                pw += p.w * s.damping_bending * dk.dot(qd).powi(2);
+            }
+        }
+        pw
+    }
+
+    /// Internal force `Q = ∫ N ∂ε/∂q + M ∂K/∂q dx` [N] (elastic plus material damping at the
+    /// velocities `qd`), written into `f`; returns the strain energy [J].
+    pub fn internal_force(&self, q: &ElemVec, qd: &ElemVec, f: &mut ElemVec) -> f64 {
+        *f = ElemVec::zeros();
+        let s = &self.section;
+        let mut u = 0.0;
+        for p in &self.axial[..self.n_axial] {
+            let (_, _, eps, de) = Self::axial_kin(p, q);
+            let n = s.ea * (eps - s.prestrain) + s.damping_axial * de.dot(qd);
+            *f += (p.w * n) * de;
+            u += 0.5 * p.w * s.ea * (eps - s.prestrain).powi(2);
+        }
+        for p in &self.bending[..self.n_bending] {
+            let (_, _, k, _, _, dk) = Self::bending_kin(p, q);
+            let m = s.ei * k + s.damping_bending * dk.dot(qd);
+            *f += (p.w * m) * dk;
+            u += 0.5 * p.w * s.ei * k * k;
+        }
+        u
+    }
+
+    // -----------------------------------------------------------------------------------------
+    // Tangent
+    // -----------------------------------------------------------------------------------------
+
+    /// Internal force, tangent stiffness `K = ∂Q/∂q` [N/m] and damping matrix `C = ∂Q/∂q̇`
+    /// [N s/m] (exact derivatives, including the geometric and velocity-dependent terms);
+    /// returns the strain energy [J].
+    pub fn internal_force_tangent(
+        &self,
+        q: &ElemVec,
+        qd: &ElemVec,
+        f: &mut ElemVec,
+        k: &mut ElemMat,
+        c: &mut ElemMat,
+    ) -> f64 {
+        *f = ElemVec::zeros();
+        *k = ElemMat::zeros();
+        *c = ElemMat::zeros();
+        let s = &self.section;
+        let mut u = 0.0;
+        let damped_axial = s.damping_axial != 0.0;
+        let damped_bending = s.damping_bending != 0.0;
+        for p in &self.axial[..self.n_axial] {
+            let (uvec, len, eps, de) = Self::axial_kin(p, q);
+            let eps_dot = de.dot(qd);
+            let n = s.ea * (eps - s.prestrain) + s.damping_axial * eps_dot;
+            *f += (p.w * n) * de;
+            u += 0.5 * p.w * s.ea * (eps - s.prestrain).powi(2);
+            // ∂²ε/∂q_a∂q_b = s'_a s'_b (I − u uᵀ)/|r'|
+            let proj = (Matrix2::identity() - uvec * uvec.transpose()) / len;
+            let h = Self::block_hessian(&p.d1, &proj);
+            *k += (p.w * s.ea) * de * de.transpose() + (p.w * n) * h;
+            if damped_axial {
+                // ∂ε̇/∂q = q̇ᵀ ∂²ε
+                let de_dot = h * qd;
+                *k += (p.w * s.damping_axial) * de * de_dot.transpose();
+                *c += (p.w * s.damping_axial) * de * de.transpose();
+            }
+        }
+        for p in &self.bending[..self.n_bending] {
+            let (cv, g, kv, dc, dg, dk) = Self::bending_kin(p, q);
+            let k_dot = dk.dot(qd);
+            let m = s.ei * kv + s.damping_bending * k_dot;
+            *f += (p.w * m) * dk;
+            u += 0.5 * p.w * s.ei * kv * kv;
+            let h = Self::curvature_hessian(p, cv, g, &dc, &dg);
+            *k += (p.w * s.ei) * dk * dk.transpose() + (p.w * m) * h;
+            if damped_bending {
+                let dk_dot = h * qd;
+                *k += (p.w * s.damping_bending) * dk * dk_dot.transpose();
+                *c += (p.w * s.damping_bending) * dk * dk.transpose();
+            }
+        }
+        u
+    }
+
+    /// `H_ab = s_a s_b P` (8×8) for a 2×2 block `P`.
+    #[inline]
+    fn block_hessian(s: &[f64; 4], p: &Matrix2<f64>) -> ElemMat {
+        let mut h = ElemMat::zeros();
+        for a in 0..4 {
+            for b in 0..4 {
+                let f = s[a] * s[b];
+                h[(2 * a, 2 * b)] = f * p[(0, 0)];
+                h[(2 * a, 2 * b + 1)] = f * p[(0, 1)];
+                h[(2 * a + 1, 2 * b)] = f * p[(1, 0)];
+                h[(2 * a + 1, 2 * b + 1)] = f * p[(1, 1)];
+            }
+        }
+        h
+    }
+
+    /// `∂²K/∂q²` for `K = c/g`:
+    /// `∂²c/g − (∂c ∂gᵀ + ∂g ∂cᵀ)/g² − c ∂²g/g² + 2c ∂g ∂gᵀ/g³`, with
+    /// `∂²c_ab = s'_a s''_b J + s''_a s'_b Jᵀ` (`J = [[0, 1], [−1, 0]]`) and `∂²g_ab = 2 s'_a s'_b I`.
+    #[inline]
+    fn curvature_hessian(p: &Point, c: f64, g: f64, dc: &ElemVec, dg: &ElemVec) -> ElemMat {
+        let mut h = ElemMat::zeros();
+        let (g2, g3) = (g * g, g * g * g);
+        for a in 0..4 {
+            for b in 0..4 {
+                // s'_a s''_b J + s''_a s'_b Jᵀ: off-diagonal entries of the 2×2 block
+                let x = p.d1[a] * p.d2[b] - p.d2[a] * p.d1[b];
+                let diag = -c * 2.0 * p.d1[a] * p.d1[b] / g2;
+                h[(2 * a, 2 * b)] = diag;
+                h[(2 * a + 1, 2 * b + 1)] = diag;
+                h[(2 * a, 2 * b + 1)] = x / g;
+                h[(2 * a + 1, 2 * b)] = -x / g;
+            }
+        }
+        h -= (dc * dg.transpose() + dg * dc.transpose()) / g2;
+        h += (2.0 * c / g3) * dg * dg.transpose();
+        h
+    }
+
+    /// Strain quantities at a point (for tests and outputs): `(ε, K)`.
+    pub fn strains_at(&self, q: &ElemVec, x: f64) -> (f64, f64) {
+        let p = Point {
+            w: 0.0,
+            d1: shape_d1(self.length, x),
+            d2: shape_d2(self.length, x),
+        };
+        let kin = self.kinematics(&p, q);
+        (kin.eps, kin.curv)
+    }
+
+    fn kinematics(&self, p: &Point, q: &ElemVec) -> Kinematics {
+        let (_, _, eps, de) = Self::axial_kin(p, q);
+        let (_, _, curv, _, _, dk) = Self::bending_kin(p, q);
+        Kinematics { de, dk, eps, curv }
+    }
+
+    /// `(∂ε/∂q, ∂K/∂q)` at `x` (for tests).
+    pub fn strain_gradients_at(&self, q: &ElemVec, x: f64) -> (ElemVec, ElemVec) {
+        let p = Point {
+            w: 0.0,
+            d1: shape_d1(self.length, x),
+            d2: shape_d2(self.length, x),
+        };
+        let kin = self.kinematics(&p, q);
+        (kin.de, kin.dk)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Rotation2;
+
+    const RULES: [CableRule; 3] = [CableRule::Full, CableRule::Reduced, CableRule::Mixed];
+
+    fn section() -> CableSection {
+        CableSection {
+            ea: 5e4,
+            ei: 0.8,
+            mass_per_length: 0.2,
+            damping_axial: 0.0,
+            damping_bending: 0.0,
+            prestrain: 0.0,
+        }
+    }
+
+    fn damped() -> CableSection {
+        CableSection {
+            damping_axial: 30.0,
+            damping_bending: 2e-3,
+            prestrain: -0.01,
+            ..section()
+        }
+    }
+
+    const L: f64 = 0.3;
+
+    fn reference() -> ElemVec {
+        straight_coordinates(Vector2::new(0.1, -0.2), Vector2::new(0.1 + L, -0.2), 1.0)
+    }
+
+    /// A stretched, bent configuration with rotated slopes.
+    fn deformed() -> ElemVec {
+        reference()
+            + ElemVec::from_column_slice(&[2e-3, -1e-3, 0.02, 0.15, 4e-3, 0.03, -0.05, -0.1])
+    }
+
+    fn rigid(q: &ElemVec, angle: f64, t: Vector2<f64>) -> ElemVec {
+        let r = Rotation2::new(angle);
+        let mut out = ElemVec::zeros();
+        for a in 0..4 {
+            let v = r * Vector2::new(q[2 * a], q[2 * a + 1]);
+            let v = if a % 2 == 0 { v + t } else { v };
+            out[2 * a] = v.x;
+            out[2 * a + 1] = v.y;
+        }
+        out
+    }
+
+    /// Closed-form consistent mass of the Hermite cubic (Przemieniecki; Shabana, Dynamics of
+    /// Multibody Systems, ANCF cable): `ρA L/420 [[156, 22L, 54, −13L], [22L, 4L², 13L, −3L²],
+    /// [54, 13L, 156, −22L], [−13L, −3L², −22L, 4L²]] ⊗ I₂`.
+    #[test]
+    fn mass_matches_closed_form() {
+        let el = AncfCable2d::new(L, section(), CableRule::Full);
+        let f = 0.2 * L / 420.0;
+        let m4 = nalgebra::Matrix4::new(
+            156.0,
+            22.0 * L,
+            54.0,
+            -13.0 * L,
+            22.0 * L,
+            4.0 * L * L,
+            13.0 * L,
+            -3.0 * L * L,
+            54.0,
+            13.0 * L,
+            156.0,
+            -22.0 * L,
+            -13.0 * L,
+            -3.0 * L * L,
+            -22.0 * L,
+            4.0 * L * L,
+        ) * f;
+        let m = el.mass();
+        for a in 0..4 {
+            for b in 0..4 {
+                for i in 0..2 {
+                    for j in 0..2 {
+                        let expect = if i == j { m4[(a, b)] } else { 0.0 };
+                        let got = m[(2 * a + i, 2 * b + j)];
+                        assert!(
+                            (got - expect).abs() <= 1e-14,
+                            "M[{a}{i},{b}{j}] {got} {expect}"
+                        );
+                    }
+                }
+            }
+        }
+        // total mass: a rigid translation u gives uᵀ M u = ρA L |u|²
+        let mut u = ElemVec::zeros();
+        for a in [0, 2] {
+            u[2 * a] = 1.0;
+        }
+        assert!((u.dot(&(m * u)) - 0.2 * L).abs() < 1e-14);
+    }
+
+    /// Gravity against the closed form ρA L [g/2, L g/12, g/2, −L g/12] and against M·(rigid
+    /// translation by g).
+    #[test]
+    fn gravity_matches_mass_times_translation() {
+        let el = AncfCable2d::new(L, section(), CableRule::Full);
+        let g = Vector2::new(0.5, -9.81);
+        let qg = el.gravity(g);
+        let mut u = ElemVec::zeros();
+        for a in [0, 2] {
+            u[2 * a] = g.x;
+            u[2 * a + 1] = g.y;
+        }
+        let mu = el.mass() * u;
+        assert!((qg - mu).norm() < 1e-14, "{qg} vs {mu}");
+    }
+
+    /// Zero strains, energy and force in the reference configuration and under rigid motion.
+    #[test]
+    fn rigid_motion_is_strain_free() {
+        for rule in RULES {
+            let el = AncfCable2d::new(L, section(), rule);
+            for (angle, t) in [
+                (0.0, Vector2::zeros()),
+                (0.7, Vector2::new(3.0, -1.0)),
+                (std::f64::consts::PI, Vector2::new(-2.0, 5.0)),
+                (-2.5, Vector2::new(0.1, 0.2)),
+                (7.0, Vector2::new(100.0, 0.0)),
+            ] {
+                let q = rigid(&reference(), angle, t);
+                let mut f = ElemVec::zeros();
+                let u = el.internal_force(&q, &ElemVec::zeros(), &mut f);
+                assert!(u.abs() < 1e-20, "U = {u}");
+                assert!(f.norm() < 1e-12 * 5e4, "|Q| = {}", f.norm());
+                for x in [0.0, 0.1, 0.3] {
+                    let (e, k) = el.strains_at(&q, x);
+                    assert!(e.abs() < 1e-13 && k.abs() < 1e-10, "{e} {k}");
+                }
+            }
+        }
+    }
+
+    /// Energy and strains are invariant under rigid motion of a deformed configuration.
+    #[test]
+    fn deformed_energy_is_invariant_under_rigid_motion() {
+        for rule in RULES {
+            let el = AncfCable2d::new(L, section(), rule);
+            let u0 = el.strain_energy(&deformed());
+            let u1 = el.strain_energy(&rigid(&deformed(), 1.3, Vector2::new(-4.0, 2.0)));
+            assert!((u0 - u1).abs() <= 1e-11 * u0, "{u0} {u1}");
+            assert!(u0 > 0.0);
+        }
+    }
+
+    /// Uniform stretch λ: ε = λ − 1, U = ½EA(λ−1)²L. Circular arc of radius R traversed at
+    /// unit speed: K = 1/R (checked on an element interpolating the arc: Hermite data exact at
+    /// the nodes).
+    #[test]
+    fn strains_of_stretch_and_arc() {
+        let el = AncfCable2d::new(L, section(), CableRule::Full);
+        let lam = 1.02;
+        let q = straight_coordinates(Vector2::zeros(), Vector2::new(L * lam, 0.0), lam);
+        let u = el.strain_energy(&q);
+        let expect = 0.5 * 5e4 * (lam - 1.0f64).powi(2) * L;
+        assert!((u - expect).abs() <= 1e-12 * expect);
+        assert!((el.axial_force(&q, 0.13) - 5e4 * 0.02).abs() < 1e-9);
+        // arc: r(s) = R(sin(s/R), 1 − cos(s/R)), r' = (cos, sin)
+        let r = 0.5;
+        let phi = L / r;
+        let q = ElemVec::from_column_slice(&[
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            r * phi.sin(),
+            r * (1.0 - phi.cos()),
+            phi.cos(),
+            phi.sin(),
+        ]);
+        for x in [0.0, 0.5 * L, L] {
+            let (e, k) = el.strains_at(&q, x);
+            // cubic interpolation of an arc of 0.6 rad: errors of a few 1e-3
+            assert!(e.abs() < 5e-3, "ε = {e}");
+            assert!((k * r - 1.0).abs() < 3e-2, "K R = {}", k * r);
+        }
+    }
+
+    /// The internal force is the gradient of the strain energy (no damping).
+    #[test]
+    fn force_matches_energy_gradient() {
+        for rule in RULES {
+            for sec in [
+                section(),
+                CableSection {
+                    prestrain: -0.01,
+                    ..section()
+                },
+            ] {
+                let el = AncfCable2d::new(L, sec, rule);
+                let q = deformed();
+                let mut f = ElemVec::zeros();
+                el.internal_force(&q, &ElemVec::zeros(), &mut f);
+                let h = 1e-6;
+                for i in 0..8 {
+                    let (mut qp, mut qm) = (q, q);
+                    qp[i] += h;
+                    qm[i] -= h;
+                    let fd = (el.strain_energy(&qp) - el.strain_energy(&qm)) / (2.0 * h);
+                    assert!(
+                        (fd - f[i]).abs() <= 1e-6 * f.norm(),
+                        "{rule:?} dof {i}: {fd} vs {}",
+                        f[i]
+                    );
+                }
+            }
+        }
+    }
+
+    /// Tangent stiffness and damping matrix against central differences of the force, with
+    /// material damping and pre-strain.
+    #[test]
+    fn tangent_and_damping_match_finite_differences() {
+        for rule in RULES {
+            for sec in [section(), damped()] {
+                let el = AncfCable2d::new(L, sec, rule);
+                let q = deformed();
+                let qd = ElemVec::from_column_slice(&[0.3, -0.2, 0.5, 1.0, -0.4, 0.1, 0.7, -0.3]);
+                let (mut f, mut k, mut c) = (ElemVec::zeros(), ElemMat::zeros(), ElemMat::zeros());
+                el.internal_force_tangent(&q, &qd, &mut f, &mut k, &mut c);
+                let mut f2 = ElemVec::zeros();
+                el.internal_force(&q, &qd, &mut f2);
+                assert!((f - f2).norm() <= 1e-12 * f.norm());
+                let h = 1e-7;
+                let (mut kfd, mut cfd) = (ElemMat::zeros(), ElemMat::zeros());
+                for j in 0..8 {
+                    let (mut qp, mut qm) = (q, q);
+                    qp[j] += h;
+                    qm[j] -= h;
+                    let (mut fp, mut fm) = (ElemVec::zeros(), ElemVec::zeros());
+                    el.internal_force(&qp, &qd, &mut fp);
+                    el.internal_force(&qm, &qd, &mut fm);
+                    kfd.set_column(j, &((fp - fm) / (2.0 * h)));
+                    let (mut vp, mut vm) = (qd, qd);
+                    vp[j] += h;
+                    vm[j] -= h;
+                    el.internal_force(&q, &vp, &mut fp);
+                    el.internal_force(&q, &vm, &mut fm);
+                    cfd.set_column(j, &((fp - fm) / (2.0 * h)));
+                }
+                let err = (kfd - k).norm() / k.norm();
+                assert!(err < 1e-6, "{rule:?}: tangent error {err}");
+                if sec.damping_axial > 0.0 {
+                    let err = (cfd - c).norm() / c.norm();
+                    assert!(err < 1e-6, "{rule:?}: damping matrix error {err}");
+                } else {
+                    assert_eq!(c, ElemMat::zeros());
+                    // without damping the tangent is symmetric (a Hessian)
+                    assert!((k - k.transpose()).norm() <= 1e-10 * k.norm());
+                }
+            }
+        }
+    }
+
+    /// Damping power equals Q_d·q̇ (the force of the damping stresses times the velocity).
+    #[test]
+    fn damping_power_is_force_times_velocity() {
+        let el = AncfCable2d::new(L, damped(), CableRule::Full);
+        let q = deformed();
+        let qd = ElemVec::from_column_slice(&[0.3, -0.2, 0.5, 1.0, -0.4, 0.1, 0.7, -0.3]);
+        let (mut f1, mut f0) = (ElemVec::zeros(), ElemVec::zeros());
+        el.internal_force(&q, &qd, &mut f1);
+        el.internal_force(&q, &ElemVec::zeros(), &mut f0);
+        let p = (f1 - f0).dot(&qd);
+        let pd = el.damping_power(&q, &qd);
+        assert!((p - pd).abs() <= 1e-12 * pd.abs(), "{p} {pd}");
+        assert!(pd > 0.0);
+    }
+}
