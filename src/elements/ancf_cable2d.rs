@@ -355,6 +355,9 @@ impl AncfCable2d {
         let mut u = 0.0;
         let damped_axial = s.damping_axial != 0.0;
         let damped_bending = s.damping_bending != 0.0;
+        // Axial terms: with ∂ε/∂q = s' ⊗ u, every axial matrix is (s' s'ᵀ) ⊗ B for a 2×2 block
+        // B, so the blocks are accumulated per point and expanded once per pair of nodes.
+        let (mut kb, mut cb) = ([[Matrix2::zeros(); 4]; 4], [[Matrix2::zeros(); 4]; 4]);
         for p in &self.axial[..self.n_axial] {
             let (uvec, len, eps, de) = Self::axial_kin(p, q);
             let eps_dot = de.dot(qd);
@@ -363,13 +366,29 @@ impl AncfCable2d {
             u += 0.5 * p.w * s.ea * (eps - s.prestrain).powi(2);
             // ∂²ε/∂q_a∂q_b = s'_a s'_b (I − u uᵀ)/|r'|
             let proj = (Matrix2::identity() - uvec * uvec.transpose()) / len;
-            let h = Self::block_hessian(&p.d1, &proj);
-            *k += (p.w * s.ea) * de * de.transpose() + (p.w * n) * h;
+            let uu = uvec * uvec.transpose();
+            let mut b = (p.w * s.ea) * uu + (p.w * n) * proj;
             if damped_axial {
-                // ∂ε̇/∂q = q̇ᵀ ∂²ε
-                let de_dot = h * qd;
-                *k += (p.w * s.damping_axial) * de * de_dot.transpose();
-                *c += (p.w * s.damping_axial) * de * de.transpose();
+                // ∂ε̇/∂q = q̇ᵀ ∂²ε = s' ⊗ (P ṙ')
+                let rpd = proj * combine(&p.d1, qd);
+                b += (p.w * s.damping_axial) * uvec * rpd.transpose();
+                let bc = (p.w * s.damping_axial) * uu;
+                for i in 0..4 {
+                    for j in 0..4 {
+                        cb[i][j] += (p.d1[i] * p.d1[j]) * bc;
+                    }
+                }
+            }
+            for i in 0..4 {
+                for j in 0..4 {
+                    kb[i][j] += (p.d1[i] * p.d1[j]) * b;
+                }
+            }
+        }
+        for i in 0..4 {
+            for j in 0..4 {
+                k.fixed_view_mut::<2, 2>(2 * i, 2 * j).copy_from(&kb[i][j]);
+                c.fixed_view_mut::<2, 2>(2 * i, 2 * j).copy_from(&cb[i][j]);
             }
         }
         for p in &self.bending[..self.n_bending] {
@@ -378,54 +397,48 @@ impl AncfCable2d {
             let m = s.ei * kv + s.damping_bending * k_dot;
             *f += (p.w * m) * dk;
             u += 0.5 * p.w * s.ei * kv * kv;
-            let h = Self::curvature_hessian(p, cv, g, &dc, &dg);
-            *k += (p.w * s.ei) * dk * dk.transpose() + (p.w * m) * h;
+            k.ger(p.w * s.ei, &dk, &dk, 1.0);
+            Self::add_curvature_hessian(p, cv, g, &dc, &dg, p.w * m, k);
             if damped_bending {
+                let mut h = ElemMat::zeros();
+                Self::add_curvature_hessian(p, cv, g, &dc, &dg, 1.0, &mut h);
                 let dk_dot = h * qd;
-                *k += (p.w * s.damping_bending) * dk * dk_dot.transpose();
-                *c += (p.w * s.damping_bending) * dk * dk.transpose();
+                k.ger(p.w * s.damping_bending, &dk, &dk_dot, 1.0);
+                c.ger(p.w * s.damping_bending, &dk, &dk, 1.0);
             }
         }
         u
     }
 
-    /// `H_ab = s_a s_b P` (8×8) for a 2×2 block `P`.
-    #[inline]
-    fn block_hessian(s: &[f64; 4], p: &Matrix2<f64>) -> ElemMat {
-        let mut h = ElemMat::zeros();
-        for a in 0..4 {
-            for b in 0..4 {
-                let f = s[a] * s[b];
-                h[(2 * a, 2 * b)] = f * p[(0, 0)];
-                h[(2 * a, 2 * b + 1)] = f * p[(0, 1)];
-                h[(2 * a + 1, 2 * b)] = f * p[(1, 0)];
-                h[(2 * a + 1, 2 * b + 1)] = f * p[(1, 1)];
-            }
-        }
-        h
-    }
-
-    /// `∂²K/∂q²` for `K = c/g`:
+    /// Adds `scale · ∂²K/∂q²` to `out`, for `K = c/g`:
     /// `∂²c/g − (∂c ∂gᵀ + ∂g ∂cᵀ)/g² − c ∂²g/g² + 2c ∂g ∂gᵀ/g³`, with
     /// `∂²c_ab = s'_a s''_b J + s''_a s'_b Jᵀ` (`J = [[0, 1], [−1, 0]]`) and `∂²g_ab = 2 s'_a s'_b I`.
     #[inline]
-    fn curvature_hessian(p: &Point, c: f64, g: f64, dc: &ElemVec, dg: &ElemVec) -> ElemMat {
-        let mut h = ElemMat::zeros();
-        let (g2, g3) = (g * g, g * g * g);
-        for a in 0..4 {
-            for b in 0..4 {
+    fn add_curvature_hessian(
+        p: &Point,
+        c: f64,
+        g: f64,
+        dc: &ElemVec,
+        dg: &ElemVec,
+        scale: f64,
+        out: &mut ElemMat,
+    ) {
+        let inv_g = 1.0 / g;
+        let inv_g2 = inv_g * inv_g;
+        for b in 0..4 {
+            for a in 0..4 {
                 // s'_a s''_b J + s''_a s'_b Jᵀ: off-diagonal entries of the 2×2 block
-                let x = p.d1[a] * p.d2[b] - p.d2[a] * p.d1[b];
-                let diag = -c * 2.0 * p.d1[a] * p.d1[b] / g2;
-                h[(2 * a, 2 * b)] = diag;
-                h[(2 * a + 1, 2 * b + 1)] = diag;
-                h[(2 * a, 2 * b + 1)] = x / g;
-                h[(2 * a + 1, 2 * b)] = -x / g;
+                let x = scale * inv_g * (p.d1[a] * p.d2[b] - p.d2[a] * p.d1[b]);
+                let diag = -2.0 * scale * c * inv_g2 * p.d1[a] * p.d1[b];
+                out[(2 * a, 2 * b)] += diag;
+                out[(2 * a + 1, 2 * b + 1)] += diag;
+                out[(2 * a, 2 * b + 1)] += x;
+                out[(2 * a + 1, 2 * b)] -= x;
             }
         }
-        h -= (dc * dg.transpose() + dg * dc.transpose()) / g2;
-        h += (2.0 * c / g3) * dg * dg.transpose();
-        h
+        out.ger(-scale * inv_g2, dc, dg, 1.0);
+        out.ger(-scale * inv_g2, dg, dc, 1.0);
+        out.ger(2.0 * scale * c * inv_g2 * inv_g, dg, dg, 1.0);
     }
 
     /// Strain quantities at a point (for tests and outputs): `(ε, K)`.

@@ -83,18 +83,20 @@ impl BandedLu {
                 }
             }
             if km > 0 {
-                let inv = 1.0 / self.ab[self.at(j, j)];
-                for r in 1..=km {
-                    let idx = self.at(j + r, j);
-                    self.ab[idx] *= inv;
-                }
+                // In band storage the rows j+1..=j+km of any column are contiguous.
+                let jj = self.at(j, j);
+                let inv = 1.0 / self.ab[jj];
+                let (head, tail) = self.ab.split_at_mut((j + 1) * self.ldab);
+                let l = &mut head[jj + 1..jj + 1 + km];
+                l.iter_mut().for_each(|x| *x *= inv);
                 for c in (j + 1)..=ju {
-                    let u = self.ab[self.at(j, c)];
+                    // A(j, c) in `tail`, column c starting at (c − j − 1) ldab
+                    let top = kv + j - c + (c - j - 1) * self.ldab;
+                    let u = tail[top];
                     if u != 0.0 {
-                        for r in 1..=km {
-                            let l = self.ab[self.at(j + r, j)];
-                            let idx = self.at(j + r, c);
-                            self.ab[idx] -= l * u;
+                        let col = &mut tail[top + 1..top + 1 + km];
+                        for (x, &lr) in col.iter_mut().zip(l.iter()) {
+                            *x -= lr * u;
                         }
                     }
                 }
@@ -116,16 +118,20 @@ impl BandedLu {
             let lm = self.kl.min(n - 1 - j);
             let bj = b[j];
             if bj != 0.0 {
-                for r in 1..=lm {
-                    b[j + r] -= self.ab[self.at(j + r, j)] * bj;
+                let jj = self.at(j, j);
+                let l = &self.ab[jj + 1..jj + 1 + lm];
+                for (x, &lr) in b[j + 1..j + 1 + lm].iter_mut().zip(l) {
+                    *x -= lr * bj;
                 }
             }
         }
         for j in (0..n).rev() {
             b[j] /= self.ab[self.at(j, j)];
             let bj = b[j];
-            for i in j.saturating_sub(kv)..j {
-                b[i] -= self.ab[self.at(i, j)] * bj;
+            let i0 = j.saturating_sub(kv);
+            let u = &self.ab[self.at(i0, j)..self.at(j, j)];
+            for (x, &ur) in b[i0..j].iter_mut().zip(u) {
+                *x -= ur * bj;
             }
         }
     }
