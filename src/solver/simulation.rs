@@ -18,6 +18,12 @@ pub const MAX_HALVINGS: u32 = 30;
 /// instead of running for hours.
 pub const MAX_SUBSTEPS: f64 = 1e7;
 
+/// Largest scaled local error estimate of an accepted implicit step even without error control
+/// (`solver.tolerance` = 0): a tenth of the body length (or 0.1 rad, 0.1 of a unit gradient) in
+/// one step. Beyond it the converged Newton solution is no approximation of the motion (large
+/// steps can converge to a spurious, highly strained configuration); the step is halved instead.
+pub const SAFETY_ERROR: f64 = 0.1;
+
 /// Solver settings from the `solver.*` parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverConfig {
@@ -474,7 +480,8 @@ impl Simulation {
     /// Advances to `t_end`. Implicit schemes take substeps of at most `solver.max_step`; with
     /// `solver.tolerance` > 0 the substep follows a local error estimate (accepted when the
     /// scaled error is below the tolerance, grown or shrunk by `0.9 (tol/err)^(1/3)`, at most
-    /// ×2). A Newton failure halves the substep. The explicit scheme takes equal substeps below
+    /// ×2). A Newton failure halves the substep, and so does an estimate above
+    /// [`SAFETY_ERROR`] without error control. The explicit scheme takes equal substeps below
     /// its stability limit. On failure the state stays at the last accepted substep.
     pub fn advance(&mut self, t_end: f64) -> Result<(), AdvanceError> {
         self.model.begin_communication_step(self.state.t, t_end);
@@ -536,19 +543,25 @@ impl Simulation {
                 Ok(s) => {
                     self.stats.newton += s;
                     let mut factor = None;
-                    if adaptive
-                        && self.cfg.integrator.error_estimate(
-                            &self.state,
-                            &self.trial,
-                            h,
-                            &mut self.err,
-                        )
-                    {
-                        let e = scaled_max(&self.err, 1.0, &self.ws.scales) / self.cfg.tolerance;
-                        factor = Some((0.9 * e.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 2.0));
-                        if e > 1.0 && h > h_min {
+                    if self.cfg.integrator.error_estimate(
+                        &self.state,
+                        &self.trial,
+                        h,
+                        &mut self.err,
+                    ) {
+                        let raw = scaled_max(&self.err, 1.0, &self.ws.scales);
+                        if adaptive {
+                            let e = raw / self.cfg.tolerance;
+                            factor = Some((0.9 * e.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 2.0));
+                            if e > 1.0 && h > h_min {
+                                self.stats.rejected += 1;
+                                h_limit = h * factor.unwrap_or(0.5);
+                                continue;
+                            }
+                        }
+                        if (raw > SAFETY_ERROR || raw.is_nan()) && h > h_min {
                             self.stats.rejected += 1;
-                            h_limit = h * factor.unwrap_or(0.5);
+                            h_limit = 0.5 * h;
                             continue;
                         }
                     }
