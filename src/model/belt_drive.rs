@@ -5,7 +5,7 @@
 //! Coordinates: the belt's nodal coordinates (4 per node) followed by one angle per pulley;
 //! driven pulleys' angles are constrained (prescribed), free pulleys' are unknowns coupled to
 //! every belt coordinate through the contact (the iteration matrix is a ring with a border,
-//! factorized by the sparse LU).
+//! factorized by the bordered banded LU of [`crate::linalg::bordered`]).
 //!
 //! Contact: [`crate::contact::circle_friction`] at `contact.points_per_element` equally spaced
 //! material points per element. Equations of motion:

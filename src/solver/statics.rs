@@ -1,8 +1,8 @@
 //! Static equilibrium `f_int(q) = λ f_ext` by Newton's method with adaptive load stepping and
 //! path following: each load increment starts from the tangent predictor, and an increment
 //! whose Newton correction exceeds `PATH_JUMP_RATIO` times the predictor is rejected as a jump
-//! to another equilibrium branch (a limit point, bifurcation or spurious mode) and cut. The
-//! path starts from the equilibrium without load nearest to the start guess.
+//! to another equilibrium branch (a limit point, bifurcation or spurious mode) and cut. A start
+//! guess out of equilibrium without load is not on the path: its first increment is unchecked.
 
 use super::newton::{
     self, NewtonError, NewtonPolicy, NewtonSettings, NewtonStats, Workspace, scaled_max,
