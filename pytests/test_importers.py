@@ -26,6 +26,9 @@ CASES = {
     "belt_drive_inertia": (
         {"pulley1.torque_in": 20.0, "belt.n_elements": 40, "solver.newton_tolerance": 1e-10}, "pulley2.omega"
     ),
+    "belt_drive": ({"pulley2.torque_in": -4.0, "belt.n_elements": 40, "solver.newton_tolerance": 1e-10}, "pulley1.torque"),
+    # the master starts pulley 2 at another angle: the FMU mounts the belt there (no pre-twist)
+    "belt_drive_cosim": ({"pulley2.angle": 0.7, "belt.n_elements": 40, "solver.newton_tolerance": 1e-10}, "pulley1.force_x"),
 }
 STEP = 1e-3
 STEPS = 50

@@ -429,3 +429,34 @@ fn restore_is_bit_exact_for_the_belt_drive() {
     run(&mut a, 0.05, 0.1, 1e-3);
     assert_eq!(outputs(&mut a), first);
 }
+
+/// A master whose pulley starts at another angle: before the first communication step the
+/// driven pulley is turned there under the belt without slip (no pre-twist, the same torques
+/// as at angle 0); a turn during the run does load the belt.
+#[test]
+fn driven_pulley_angle_before_the_first_step_mounts_the_belt() {
+    let torques = |angle0: f64, turn: f64| {
+        let (mut a, log) = instance("belt_drive_cosim");
+        set(&mut a, "belt.n_elements", Value::Integer(40));
+        assert_eq!(a.setup_experiment(None, 0.0, None), Status::Ok);
+        assert_eq!(a.enter_initialization_mode(), Status::Ok);
+        set(&mut a, "pulley2.angle", Value::Real(angle0));
+        let s = a.exit_initialization_mode();
+        assert_eq!(s, Status::Ok, "{:?}", log.borrow());
+        let at_start = get(&mut a, "pulley1.torque");
+        run(&mut a, 0.0, 0.01, 1e-3);
+        set(&mut a, "pulley2.angle", Value::Real(angle0 + turn));
+        run(&mut a, 0.01, 0.02, 1e-3);
+        (at_start, get(&mut a, "pulley1.torque"))
+    };
+    let (t0, t0_end) = torques(0.0, 0.0);
+    let (t1, t1_end) = torques(0.7, 0.0);
+    println!(
+        "torque on pulley 1: {t0:.3e} / {t0_end:.3e} N m (angle 0), {t1:.3e} / {t1_end:.3e} (0.7 rad)"
+    );
+    assert!((t1 - t0).abs() < 1e-6 && (t1_end - t0_end).abs() < 1e-6);
+    // a turn of 2 mrad of pulley 2 during the run stretches a span: about EA ρ2 Δθ / L_span · ρ1
+    let (_, turned) = torques(0.7, 2e-3);
+    println!("after a 2 mrad turn: {turned:.3} N m");
+    assert!(turned.abs() > 1.0, "{turned}");
+}

@@ -1177,8 +1177,24 @@ impl BeltDrive {
 }
 
 impl Model for BeltDrive {
+    /// Before the first communication step the angle of a driven pulley is where the master's
+    /// rigid body starts: the pulley is turned there under the belt without slip (a pulley's
+    /// absolute angle means nothing to the belt; only its rotation during the run does).
     fn set_input(&mut self, kind: InputKind, value: f64) {
         if let InputKind::Pulley { pulley, quantity } = kind {
+            if quantity == PulleyInput::Angle
+                && self.t0_step.is_none()
+                && self.spec.pulleys[pulley].kind == PulleyKind::Driven
+                && value.is_finite()
+            {
+                let pd = self.pulley_dof[pulley];
+                let turn = value - self.q[pd];
+                let np = self.circles.len();
+                for h in self.hist.iter_mut().skip(pulley).step_by(np) {
+                    h.theta += turn;
+                }
+                self.q[pd] = value;
+            }
             let io = &mut self.io[pulley];
             match quantity {
                 PulleyInput::Angle => io.angle_in = value,
