@@ -3,7 +3,7 @@
 
 use super::file::{ProbeQuantity, SceneFile, SupportKind};
 use super::params::{Check, ParamDef, int_param, names::*};
-use super::validate::is_identifier;
+use super::validate::{check_fraction, check_identifier};
 use crate::variables::{EnergyKind, InputKind, IoVariable, OutputKind, Value};
 use std::collections::BTreeSet;
 
@@ -39,20 +39,10 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
             errs.push("geometry.origin / geometry.angle_deg: must be finite numbers".into());
         }
     }
-    let at_ok = |key: String, at: f64, errs: &mut Vec<String>| {
-        if !(0.0..=1.0).contains(&at) {
-            errs.push(format!(
-                "{key}.at = {at}: must lie in [0, 1] (a fraction of the length)"
-            ));
-        }
-    };
-    let name_ok = |key: String, name: &str, errs: &mut Vec<String>| {
-        if !is_identifier(name) {
-            errs.push(format!(
-                "{key}.name = \"{name}\": must start with a letter and contain only letters, digits and '_'"
-            ));
-        }
-    };
+    let at_ok =
+        |key: String, at: f64, errs: &mut Vec<String>| check_fraction(&key, at, "the length", errs);
+    let name_ok =
+        |key: String, name: &str, errs: &mut Vec<String>| check_identifier(&key, name, errs);
     for (i, sup) in s.supports.iter().enumerate() {
         let key = format!("supports[{i}]");
         at_ok(key.clone(), sup.at, &mut errs);

@@ -13,6 +13,25 @@ pub fn is_identifier(s: &str) -> bool {
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
+/// Records a problem when the position `at` of the entry `key` is not a fraction in [0, 1] of
+/// `what` (e.g. "the length").
+pub fn check_fraction(key: &str, at: f64, what: &str, errs: &mut Vec<String>) {
+    if !(0.0..=1.0).contains(&at) {
+        errs.push(format!(
+            "{key}.at = {at}: must lie in [0, 1] (a fraction of {what})"
+        ));
+    }
+}
+
+/// Records a problem when the name of the entry `key` is not an identifier.
+pub fn check_identifier(key: &str, name: &str, errs: &mut Vec<String>) {
+    if !is_identifier(name) {
+        errs.push(format!(
+            "{key}.name = \"{name}\": must start with a letter and contain only letters, digits and '_'"
+        ));
+    }
+}
+
 /// Problems of the `[fmu]` and `[experiment]` tables.
 pub fn check_common(s: &SceneFile) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
