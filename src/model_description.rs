@@ -37,19 +37,10 @@ pub fn capabilities(kind: SceneKind) -> Capabilities {
             serialize_state: true,
             directional_derivative: true,
         },
-        // No analytic output rates and no input interpolation yet; state and derivatives are
-        // generic (the model saves its orientations and loads).
-        // Pulley inputs are smooth signals without interpolation; state and derivatives are
-        // generic (the model saves its contact history).
-        SceneKind::BeltDrive => Capabilities {
-            variable_step: true,
-            interpolate_inputs: false,
-            max_output_derivative_order: 0,
-            get_set_state: true,
-            serialize_state: true,
-            directional_derivative: true,
-        },
-        SceneKind::Corot3d => Capabilities {
+        // No analytic output rates and no input interpolation (3D beams: not yet; belt drives:
+        // pulley inputs are smooth signals set every step); state and derivatives are generic
+        // (the models save their orientations and loads, or their contact history).
+        SceneKind::Corot3d | SceneKind::BeltDrive => Capabilities {
             variable_step: true,
             interpolate_inputs: false,
             max_output_derivative_order: 0,

@@ -2,69 +2,20 @@
 //! an honest fmi2Discard/fmi2Error and a message; never a crash, never NaN with fmi2OK.
 
 mod common;
-use flexfmu::fmi2::state_machine::Call;
 use flexfmu::instance::{Instance, StatusKind};
 use flexfmu::logging::Status;
-use flexfmu::variables::{Value, VarType};
-use std::cell::RefCell;
-use std::rc::Rc;
+use flexfmu::variables::Value;
 
-type Log = Rc<RefCell<Vec<(Status, String)>>>;
+use common::{get, last_message, set};
 
-fn instance(scene: &str) -> (Instance, Log) {
-    let log: Log = Rc::default();
-    let l2 = log.clone();
-    let inst = Instance::from_scene(
-        "extreme",
-        common::scene(scene),
-        false,
-        Box::new(move |s, _c, m| l2.borrow_mut().push((s, m.to_string()))),
-    );
-    (inst, log)
-}
-
-fn set(inst: &mut Instance, name: &str, v: Value) -> Status {
-    let vr = inst
-        .variables()
-        .by_name(name)
-        .unwrap_or_else(|| panic!("no {name}"))
-        .vr;
-    let call = match v {
-        Value::Real(_) => Call::SetReal,
-        Value::Integer(_) => Call::SetInteger,
-        Value::Boolean(_) => Call::SetBoolean,
-    };
-    inst.set(call, &[vr], &[v])
-}
-
-fn get(inst: &mut Instance, name: &str) -> f64 {
-    let vr = inst.variables().by_name(name).unwrap().vr;
-    let mut out = f64::NAN;
-    assert_eq!(
-        inst.get(
-            Call::GetReal,
-            VarType::Real,
-            &[vr],
-            &mut |_, v| if let Value::Real(x) = v {
-                out = x
-            }
-        ),
-        Status::Ok
-    );
-    out
+fn instance(scene: &str) -> (Instance, common::Log) {
+    common::instance(scene, false)
 }
 
 fn init(inst: &mut Instance) -> Status {
     assert_eq!(inst.setup_experiment(None, 0.0, None), Status::Ok);
     assert_eq!(inst.enter_initialization_mode(), Status::Ok);
     inst.exit_initialization_mode()
-}
-
-fn last_message(log: &Log) -> String {
-    log.borrow()
-        .last()
-        .map(|(_, m)| m.clone())
-        .unwrap_or_default()
 }
 
 /// Timoshenko tip deflection of a cantilever under a small tip force `p` [m].

@@ -5,51 +5,12 @@ mod common;
 use flexfmu::fmi2::state_machine::{Call, State};
 use flexfmu::instance::Instance;
 use flexfmu::logging::Status;
-use flexfmu::variables::{Value, VarType};
-use std::cell::RefCell;
-use std::rc::Rc;
+use flexfmu::variables::Value;
 
-type Log = Rc<RefCell<Vec<(Status, String)>>>;
+use common::{Log, get, set, vr};
 
 fn instance(scene: &str) -> (Instance, Log) {
-    let log: Log = Rc::default();
-    let l2 = log.clone();
-    let inst = Instance::from_scene(
-        "test",
-        common::scene(scene),
-        false,
-        Box::new(move |s, _c, m| l2.borrow_mut().push((s, m.to_string()))),
-    );
-    (inst, log)
-}
-
-fn vr(inst: &Instance, name: &str) -> u32 {
-    inst.variables()
-        .by_name(name)
-        .unwrap_or_else(|| panic!("no {name}"))
-        .vr
-}
-
-fn set(inst: &mut Instance, name: &str, v: Value) -> Status {
-    let call = match v {
-        Value::Real(_) => Call::SetReal,
-        Value::Integer(_) => Call::SetInteger,
-        Value::Boolean(_) => Call::SetBoolean,
-    };
-    let r = vr(inst, name);
-    inst.set(call, &[r], &[v])
-}
-
-fn get(inst: &mut Instance, name: &str) -> f64 {
-    let r = vr(inst, name);
-    let mut out = f64::NAN;
-    let s = inst.get(Call::GetReal, VarType::Real, &[r], &mut |_, v| {
-        if let Value::Real(x) = v {
-            out = x
-        }
-    });
-    assert_eq!(s, Status::Ok);
-    out
+    common::instance(scene, false)
 }
 
 fn outputs(inst: &mut Instance) -> Vec<u64> {
@@ -153,7 +114,11 @@ fn bad_state_buffers_are_rejected() {
     init(&mut other);
     let foreign = other.save_fmu_state(Call::GetFmuState).unwrap();
     assert_eq!(a.restore_fmu_state(&foreign), Status::Error);
-    assert!(log.borrow().iter().any(|(_, m)| m.contains("another FMU")));
+    assert!(
+        log.borrow()
+            .iter()
+            .any(|(_, _, m)| m.contains("another FMU"))
+    );
     // a failed restore leaves the simulation as it was
     assert_eq!(outputs(&mut a), before);
 }

@@ -5,51 +5,9 @@ use flexfmu::fmi2::state_machine::{Call, State};
 use flexfmu::instance::Instance;
 
 use flexfmu::logging::Status;
-use flexfmu::variables::{Value, VarType};
-use std::cell::RefCell;
-use std::rc::Rc;
+use flexfmu::variables::Value;
 
-type Log = Rc<RefCell<Vec<(Status, String, String)>>>;
-
-fn instance(scene: &str, logging_on: bool) -> (Instance, Log) {
-    let log: Log = Rc::default();
-    let l2 = log.clone();
-    let inst = Instance::from_scene(
-        "test",
-        common::scene(scene),
-        logging_on,
-        Box::new(move |s, c, m| l2.borrow_mut().push((s, c.to_string(), m.to_string()))),
-    );
-    (inst, log)
-}
-
-fn vr(inst: &Instance, name: &str) -> u32 {
-    inst.variables()
-        .by_name(name)
-        .unwrap_or_else(|| panic!("no {name}"))
-        .vr
-}
-
-fn set(inst: &mut Instance, name: &str, v: Value) -> Status {
-    let call = match v {
-        Value::Real(_) => Call::SetReal,
-        Value::Integer(_) => Call::SetInteger,
-        Value::Boolean(_) => Call::SetBoolean,
-    };
-    let r = vr(inst, name);
-    inst.set(call, &[r], &[v])
-}
-
-fn get(inst: &mut Instance, name: &str) -> (Status, f64) {
-    let r = vr(inst, name);
-    let mut out = f64::NAN;
-    let s = inst.get(Call::GetReal, VarType::Real, &[r], &mut |_, v| {
-        if let Value::Real(x) = v {
-            out = x
-        }
-    });
-    (s, out)
-}
+use common::{Log, get_real as get, instance, set, vr};
 
 fn last_error(log: &Log) -> String {
     log.borrow()

@@ -3,37 +3,34 @@
 
 use super::file::{ProbeQuantity, SceneFile, SupportKind};
 use super::params::{Check, ParamDef, int_param, names::*};
-use super::validate::{check_fraction, check_identifier};
+use super::validate::{
+    check_fraction, check_identifier, reject_present, reject_repeated, require_tables,
+};
 use crate::variables::{EnergyKind, InputKind, IoVariable, OutputKind, Value};
-use std::collections::BTreeSet;
 
 /// Problems of a planar-beam scene: required tables, supports, loads, probes.
 pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
-    for (name, present) in [
-        ("mesh", s.mesh.is_some()),
-        ("geometry", s.geometry.is_some()),
-        ("material", s.material.is_some()),
-    ] {
-        if !present {
-            errs.push(format!(
-                "[{name}]: required for element type \"ancf_shear_2d\""
-            ));
-        }
-    }
-    for (key, present) in [
-        ("[section]", s.section.is_some()),
-        ("[centreline]", s.centreline.is_some()),
-        ("element.theory", s.element.theory.is_some()),
-        ("element.mass", s.element.mass.is_some()),
-        ("gravity.z", s.gravity.as_ref().is_some_and(|g| g.z != 0.0)),
-    ] {
-        if present {
-            errs.push(format!(
-                "{key}: only for 3D element types (\"corotational_3d\"), not for \"ancf_shear_2d\""
-            ));
-        }
-    }
+    require_tables(
+        &[
+            ("mesh", s.mesh.is_some()),
+            ("geometry", s.geometry.is_some()),
+            ("material", s.material.is_some()),
+        ],
+        "element type \"ancf_shear_2d\"",
+        &mut errs,
+    );
+    reject_present(
+        &[
+            ("[section]", s.section.is_some()),
+            ("[centreline]", s.centreline.is_some()),
+            ("element.theory", s.element.theory.is_some()),
+            ("element.mass", s.element.mass.is_some()),
+            ("gravity.z", s.gravity.as_ref().is_some_and(|g| g.z != 0.0)),
+        ],
+        "only for 3D element types (\"corotational_3d\"), not for \"ancf_shear_2d\"",
+        &mut errs,
+    );
     if let Some(g) = &s.geometry {
         if !g.origin.iter().all(|v| v.is_finite()) || !g.angle_deg.is_finite() {
             errs.push("geometry.origin / geometry.angle_deg: must be finite numbers".into());
@@ -83,17 +80,12 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
                 "{key}.outputs: empty; list at least one of x, y, vx, vy"
             ));
         }
-        let mut seen = BTreeSet::new();
         for q in p.outputs.iter().filter(|q| !q.is_planar()) {
             errs.push(format!(
                 "{key}.outputs: {q:?} is for 3D element types only; planar probes give x, y, vx, vy"
             ));
         }
-        for q in &p.outputs {
-            if !seen.insert(format!("{q:?}")) {
-                errs.push(format!("{key}.outputs: {q:?} listed twice"));
-            }
-        }
+        reject_repeated(&key, &p.outputs, &mut errs);
     }
     if errs.is_empty() { Ok(()) } else { Err(errs) }
 }

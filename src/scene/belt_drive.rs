@@ -4,6 +4,7 @@
 
 use super::file::{PulleyMode, SceneFile};
 use super::params::{Check, ParamDef, describe, int_param, resolve_choice};
+use super::validate::{reject_present, require_tables};
 use crate::variables::{
     BeltOutput, EnergyKind, InputKind, IoVariable, OutputKind, PulleyInput, Value,
 };
@@ -79,22 +80,20 @@ pub const PULLEY_DAMPING: [&str; MAX_PULLEYS] = pulley_names!("damping");
 /// Problems of a belt-drive scene.
 pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
-    for (name, present) in [("belt", s.belt.is_some()), ("contact", s.contact.is_some())] {
-        if !present {
-            errs.push(format!("[{name}]: required for a belt drive"));
-        }
-    }
-    for (name, present) in [
-        ("mesh", s.mesh.is_some()),
-        ("geometry", s.geometry.is_some()),
-        ("material", s.material.is_some()),
-    ] {
-        if present {
-            errs.push(format!(
-                "[{name}]: not used by a belt drive (the belt is described by [belt])"
-            ));
-        }
-    }
+    require_tables(
+        &[("belt", s.belt.is_some()), ("contact", s.contact.is_some())],
+        "a belt drive",
+        &mut errs,
+    );
+    reject_present(
+        &[
+            ("[mesh]", s.mesh.is_some()),
+            ("[geometry]", s.geometry.is_some()),
+            ("[material]", s.material.is_some()),
+        ],
+        "not used by a belt drive (the belt is described by [belt])",
+        &mut errs,
+    );
     if !s.supports.is_empty() || !s.loads.is_empty() || !s.probes.is_empty() {
         errs.push("[[supports]], [[loads]], [[probes]]: not used by a belt drive".into());
     }

@@ -3,9 +3,10 @@
 
 use super::file::{ProbeQuantity, SceneFile, SupportKind};
 use super::params::{Check, ParamDef, int_param, names::MESH_N_ELEMENTS};
-use super::validate::{check_fraction, check_identifier};
+use super::validate::{
+    check_fraction, check_identifier, reject_present, reject_repeated, require_tables,
+};
 use crate::variables::{EnergyKind, InputKind, IoVariable, OutputKind, Value};
-use std::collections::BTreeSet;
 
 /// Parameter names of the 3D beam (public interface: never rename silently).
 pub mod names {
@@ -48,27 +49,23 @@ fn norm3(v: &[f64; 3]) -> f64 {
 /// Problems of a 3D-beam scene: required tables, centre line, supports, loads, probes.
 pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
-    for (name, present) in [
-        ("mesh", s.mesh.is_some()),
-        ("section", s.section.is_some()),
-        ("centreline", s.centreline.is_some()),
-    ] {
-        if !present {
-            errs.push(format!(
-                "[{name}]: required for element type \"corotational_3d\""
-            ));
-        }
-    }
-    for (name, present) in [
-        ("geometry", s.geometry.is_some()),
-        ("material", s.material.is_some()),
-    ] {
-        if present {
-            errs.push(format!(
-                "[{name}]: not used by element type \"corotational_3d\" (give [section] and [centreline])"
-            ));
-        }
-    }
+    require_tables(
+        &[
+            ("mesh", s.mesh.is_some()),
+            ("section", s.section.is_some()),
+            ("centreline", s.centreline.is_some()),
+        ],
+        "element type \"corotational_3d\"",
+        &mut errs,
+    );
+    reject_present(
+        &[
+            ("[geometry]", s.geometry.is_some()),
+            ("[material]", s.material.is_some()),
+        ],
+        "not used by element type \"corotational_3d\" (give [section] and [centreline])",
+        &mut errs,
+    );
     if let Some(c) = &s.centreline {
         if !finite3(&c.start) {
             errs.push("centreline.start: must be finite numbers".into());
@@ -160,12 +157,7 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
                 "{key}.outputs: empty; list at least one of x, y, z, vx, vy, vz, rx, ry, rz, tx, ty, tz, wx, wy, wz"
             ));
         }
-        let mut seen = BTreeSet::new();
-        for q in &p.outputs {
-            if !seen.insert(format!("{q:?}")) {
-                errs.push(format!("{key}.outputs: {q:?} listed twice"));
-            }
-        }
+        reject_repeated(&key, &p.outputs, &mut errs);
     }
     if errs.is_empty() { Ok(()) } else { Err(errs) }
 }

@@ -13,6 +13,34 @@ pub fn is_identifier(s: &str) -> bool {
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
+/// Records a missing table of `required` (name, present) as required for `owner`.
+pub fn require_tables(required: &[(&str, bool)], owner: &str, errs: &mut Vec<String>) {
+    for (name, present) in required {
+        if !present {
+            errs.push(format!("[{name}]: required for {owner}"));
+        }
+    }
+}
+
+/// Records every key of `unused` (key, present) that is present: `"{key}: {why}"`.
+pub fn reject_present(unused: &[(&str, bool)], why: &str, errs: &mut Vec<String>) {
+    for (key, present) in unused {
+        if *present {
+            errs.push(format!("{key}: {why}"));
+        }
+    }
+}
+
+/// Records the outputs a probe `key` lists twice.
+pub fn reject_repeated<T: std::fmt::Debug>(key: &str, outputs: &[T], errs: &mut Vec<String>) {
+    let mut seen = BTreeSet::new();
+    for q in outputs {
+        if !seen.insert(format!("{q:?}")) {
+            errs.push(format!("{key}.outputs: {q:?} listed twice"));
+        }
+    }
+}
+
 /// Records a problem when the position `at` of the entry `key` is not a fraction in [0, 1] of
 /// `what` (e.g. "the length").
 pub fn check_fraction(key: &str, at: f64, what: &str, errs: &mut Vec<String>) {

@@ -103,6 +103,29 @@ pub struct Simulation {
     h_next: f64,
     /// Error estimate buffer.
     err: Vec<f64>,
+    /// Buffers of the explicit scheme's stable-step estimate (sized on first use).
+    power: PowerScratch,
+}
+
+/// Buffers of the power iteration in [`Simulation::explicit_step_limit`].
+#[derive(Default)]
+struct PowerScratch {
+    /// Tangent stiffness values (in the model's pattern).
+    k: Vec<f64>,
+    /// Iterate and its image.
+    x: Vec<f64>,
+    y: Vec<f64>,
+    /// Zero accelerations.
+    zeros: Vec<f64>,
+}
+
+impl PowerScratch {
+    fn resize(&mut self, n: usize, nnz: usize) {
+        self.k.resize(nnz, 0.0);
+        self.x.resize(n, 0.0);
+        self.y.resize(n, 0.0);
+        self.zeros.resize(n, 0.0);
+    }
 }
 
 impl std::fmt::Debug for Simulation {
@@ -134,6 +157,7 @@ impl Simulation {
             inputs_changed: true,
             h_next: cfg.max_step,
             err: vec![0.0; n],
+            power: PowerScratch::default(),
         })
     }
 
@@ -409,41 +433,34 @@ impl Simulation {
     /// F.2).
     fn explicit_step_limit(&mut self) -> Result<f64, String> {
         let n = self.state.q.len();
-        let zeros = vec![0.0; n];
         let stiff = JacobianCoeffs {
             mass: 0.0,
             damping: 0.0,
             stiffness: 1.0,
         };
-        let t = self.state.t;
-        self.model
-            .residual(
-                t,
-                &self.state.q,
-                &self.state.v,
-                &zeros,
-                1.0,
-                &mut self.ws.r,
-                Some((stiff, &mut self.ws.jac)),
-            )
-            .map_err(|e| e.to_string())?;
-        let k = self.ws.jac.clone();
         let mass = JacobianCoeffs {
             mass: 1.0,
             damping: 0.0,
             stiffness: 0.0,
         };
-        self.model
-            .residual(
-                t,
-                &self.state.q,
-                &self.state.v,
-                &zeros,
-                1.0,
-                &mut self.ws.r,
-                Some((mass, &mut self.ws.jac)),
-            )
-            .map_err(|e| e.to_string())?;
+        let (t, model, ws, state) = (self.state.t, &mut self.model, &mut self.ws, &self.state);
+        let power = &mut self.power;
+        power.resize(n, ws.jac.len());
+        let mut matrix = |coeffs: JacobianCoeffs, jac: &mut [f64]| {
+            model
+                .residual(
+                    t,
+                    &state.q,
+                    &state.v,
+                    &power.zeros,
+                    1.0,
+                    &mut ws.r,
+                    Some((coeffs, jac)),
+                )
+                .map_err(|e| e.to_string())
+        };
+        matrix(stiff, &mut power.k)?;
+        matrix(mass, &mut ws.jac)?;
         self.ws.invalidate();
         self.ws
             .solver
@@ -453,14 +470,14 @@ impl Simulation {
             self.ws.mark_factored(coeff_key(&mass));
         }
         // deterministic start vector with all modes present
-        let mut x: Vec<f64> = (0..n)
-            .map(|i| 1.0 + ((i * 7919) % 13) as f64 / 13.0)
-            .collect();
-        let mut y = vec![0.0; n];
+        let PowerScratch { k, x, y, .. } = &mut self.power;
+        for (i, xi) in x.iter_mut().enumerate() {
+            *xi = 1.0 + ((i * 7919) % 13) as f64 / 13.0;
+        }
         let mut lambda = 0.0;
         for _ in 0..60 {
-            self.ws.pattern.mul_vec(&k, &x, &mut y);
-            self.ws.solver.solve_in_place(&mut y);
+            self.ws.pattern.mul_vec(k, x, y);
+            self.ws.solver.solve_in_place(y);
             let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
             let xn = x.iter().map(|v| v * v).sum::<f64>().sqrt();
             if norm == 0.0 || !norm.is_finite() {

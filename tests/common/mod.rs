@@ -1,11 +1,16 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+use flexfmu::fmi2::state_machine::Call;
+use flexfmu::instance::Instance;
+use flexfmu::logging::Status;
 use flexfmu::model::build_model;
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::solver::simulation::{Simulation, SolverConfig};
-use flexfmu::variables::{Role, Value, VariableTable};
+use flexfmu::variables::{Role, Value, VarType, VariableTable};
+use std::cell::RefCell;
 use std::path::PathBuf;
+use std::rc::Rc;
 
 /// Path of a shipped scene.
 pub fn scene_path(name: &str) -> PathBuf {
@@ -58,4 +63,66 @@ pub fn output(scene: &Scene, sim: &Simulation, name: &str) -> f64 {
         Role::Output(k) => sim.output(k),
         _ => panic!("{name} is not an output"),
     }
+}
+
+/// Log of an instance: status, category, message of every delivered message.
+pub type Log = Rc<RefCell<Vec<(Status, String, String)>>>;
+
+/// An instance of a shipped scene whose log messages are collected.
+pub fn instance(scene_name: &str, logging_on: bool) -> (Instance, Log) {
+    let log: Log = Rc::default();
+    let l2 = log.clone();
+    let inst = Instance::from_scene(
+        "test",
+        scene(scene_name),
+        logging_on,
+        Box::new(move |s, c, m| l2.borrow_mut().push((s, c.to_string(), m.to_string()))),
+    );
+    (inst, log)
+}
+
+/// The last message of a log ("" when there is none).
+pub fn last_message(log: &Log) -> String {
+    log.borrow()
+        .last()
+        .map(|(_, _, m)| m.clone())
+        .unwrap_or_default()
+}
+
+/// Value reference of a variable by name.
+pub fn vr(inst: &Instance, name: &str) -> u32 {
+    inst.variables()
+        .by_name(name)
+        .unwrap_or_else(|| panic!("no {name}"))
+        .vr
+}
+
+/// Sets a variable by name with the fmi2Set call of its type.
+pub fn set(inst: &mut Instance, name: &str, v: Value) -> Status {
+    let call = match v {
+        Value::Real(_) => Call::SetReal,
+        Value::Integer(_) => Call::SetInteger,
+        Value::Boolean(_) => Call::SetBoolean,
+    };
+    let r = vr(inst, name);
+    inst.set(call, &[r], &[v])
+}
+
+/// fmi2GetReal of one variable by name: the status and the value (NaN when none came).
+pub fn get_real(inst: &mut Instance, name: &str) -> (Status, f64) {
+    let r = vr(inst, name);
+    let mut out = f64::NAN;
+    let s = inst.get(Call::GetReal, VarType::Real, &[r], &mut |_, v| {
+        if let Value::Real(x) = v {
+            out = x
+        }
+    });
+    (s, out)
+}
+
+/// fmi2GetReal of one variable by name, which must succeed.
+pub fn get(inst: &mut Instance, name: &str) -> f64 {
+    let (s, x) = get_real(inst, name);
+    assert_eq!(s, Status::Ok, "fmi2GetReal({name})");
+    x
 }
