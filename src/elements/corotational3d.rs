@@ -25,8 +25,10 @@
 //! any size leaves all seven unchanged, so it produces neither strain nor force.
 //!
 //! The file follows the fixed order of every element: shape functions (and kinematics), mass,
-//! internal forces, tangent.
+//! internal forces, tangent; then the element trait (node frames from
+//! [`super::node_frames`]).
 
+use super::element::{Element, ElementState, Layout, Slot};
 use super::quadrature::gauss_legendre;
 use super::rotation::{log_so3, skew, tangent_spatial_inv, tangent_spatial_inv_t_apply};
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
@@ -705,509 +707,119 @@ impl Corot3d {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::elements::rotation::{exp_so3, tangent_body};
+// ---------------------------------------------------------------------------------------------
+// The element trait
+// ---------------------------------------------------------------------------------------------
 
-    fn section() -> BeamSection {
-        BeamSection {
-            ea: 2.0e6,
-            ga_y: 8.0e5,
-            ga_z: 6.0e5,
-            gj: 3.0e3,
-            ei_y: 5.0e3,
-            ei_z: 8.0e3,
-            rho_a: 7.0,
-            rho_jx: 0.03,
-            rho_iy: 0.01,
-            rho_iz: 0.02,
-        }
-    }
+/// Slots `[x1, θ1, x2, θ2]`: rotation slots are incremental rotation vectors of node frames.
+const COROT_SLOTS: &[Slot] = &[
+    Slot::Position,
+    Slot::Rotation,
+    Slot::Position,
+    Slot::Rotation,
+];
 
-    /// An element of length 0.7 along a skew direction.
-    fn element(theory: Theory, mass: MassModel) -> (Corot3d, Nodes) {
-        let x1 = Vector3::new(0.2, -0.1, 0.3);
-        let x2 = x1 + Vector3::new(0.4, 0.5, 0.3).normalize() * 0.7;
-        let r0 = reference_frame(&x1, &x2, &Vector3::new(0.1, 0.2, 1.0)).unwrap();
-        let el = Corot3d::new(0.7, r0, &section(), theory, mass);
-        (
-            el,
-            Nodes {
-                x: [x1, x2],
-                r: [Matrix3::identity(); 2],
-            },
-        )
-    }
-
-    /// A large deformed configuration (local rotations of a few tenths of a radian, on top
-    /// of a large rigid rotation).
-    fn deformed(n0: &Nodes) -> Nodes {
-        let q = exp_so3(&Vector3::new(1.3, -2.1, 0.8));
-        let t = Vector3::new(0.3, 1.0, -2.0);
+impl Corot3d {
+    /// Nodes of an element state (positions from the coordinates, orientations from the node
+    /// frames).
+    #[inline]
+    pub fn nodes_of(s: &ElementState<ELEMENT_DOFS>) -> Nodes {
         Nodes {
             x: [
-                q * n0.x[0] + t,
-                q * (n0.x[1] + Vector3::new(0.01, -0.03, 0.02)) + t,
+                s.q.fixed_rows::<3>(0).into_owned(),
+                s.q.fixed_rows::<3>(6).into_owned(),
             ],
-            r: [
-                q * exp_so3(&Vector3::new(0.1, -0.2, 0.15)),
-                q * exp_so3(&Vector3::new(-0.12, 0.25, 0.05)),
-            ],
+            r: [s.frames[0].rot, s.frames[1].rot],
         }
     }
 
-    fn perturbed(n: &Nodes, j: usize, eps: f64) -> Nodes {
-        let mut p = *n;
-        let node = j / 6;
-        let comp = j % 6;
-        if comp < 3 {
-            p.x[node][comp] += eps;
-        } else {
-            let mut w = Vector3::zeros();
-            w[comp - 3] = eps;
-            p.r[node] = n.r[node] * exp_so3(&w);
+    /// Chains the rotation columns of a body-spin derivative with the tangents `T(θ_i)`.
+    #[inline]
+    fn chain_rotations(s: &ElementState<ELEMENT_DOFS>, k: &mut Mat12) {
+        for slot in 0..2 {
+            let cols = k.fixed_view::<12, 3>(0, 6 * slot + 3) * s.frames[slot].tangent;
+            k.fixed_view_mut::<12, 3>(0, 6 * slot + 3).copy_from(&cols);
         }
-        p
     }
+}
 
-    fn theories() -> [Theory; 2] {
-        [Theory::EulerBernoulli, Theory::Timoshenko]
-    }
-
-    /// Hermite basis: partition of unity, end values and the mid-point weights.
-    #[test]
-    fn hermite_basis() {
-        let h0 = hermite(0.0);
-        let h1 = hermite(1.0);
-        assert_eq!(h0, [1.0, 0.0, 0.0, 0.0]);
-        assert_eq!(h1, [0.0, 0.0, 1.0, 0.0]);
-        assert_eq!(hermite(0.5), [0.5, 0.125, 0.5, -0.125]);
-        for xi in [0.1, 0.37, 0.8] {
-            let h = hermite(xi);
-            assert!((h[0] + h[2] - 1.0).abs() < 1e-15);
-            // reproduces a straight line: y = ξ when x1 = 0, x2 = 1, t = 1
-            assert!((h[2] + h[1] + h[3] - xi).abs() < 1e-15);
+impl Element<ELEMENT_DOFS> for Corot3d {
+    fn layout(&self) -> Layout {
+        Layout {
+            dim: 3,
+            slots: COROT_SLOTS,
         }
     }
 
-    /// Zero strain and zero internal force in the reference configuration and under rigid
-    /// motions of any size: rotation angles beyond 2π included (a rotation of 2π + 1 rad is
-    /// the same matrix as 1 rad, so the element cannot tell them apart).
-    #[test]
-    fn rigid_motion_is_strain_free() {
-        for th in theories() {
-            let (el, n0) = element(th, MassModel::Lumped);
-            for (axis, angle) in [
-                (Vector3::new(0.0, 0.0, 1.0), 0.0),
-                (Vector3::new(1.0, 2.0, -0.5), 1.0),
-                (Vector3::new(0.3, -0.4, 0.8), std::f64::consts::PI),
-                (
-                    Vector3::new(-1.0, 0.2, 0.1),
-                    2.0 * std::f64::consts::PI + 1.0,
-                ),
-                (Vector3::new(0.5, 0.5, -0.7), 7.5 * std::f64::consts::PI),
-            ] {
-                let q = exp_so3(&(axis.normalize() * angle));
-                let t = Vector3::new(10.0, -3.0, 2.0);
-                let n = Nodes {
-                    x: [q * n0.x[0] + t, q * n0.x[1] + t],
-                    r: [q, q],
-                };
-                let mut f = Vec12::zeros();
-                let u = el.internal_force(&n, &mut f);
-                assert!(u.abs() < 1e-18, "U = {u} at angle {angle}");
-                assert!(f.norm() < 1e-8, "|f| = {} at angle {angle}", f.norm());
-                let loc = el.local(&n);
-                assert!(loc.u.abs() < 1e-14);
-                assert!(loc.theta[0].norm() < 1e-12 && loc.theta[1].norm() < 1e-12);
-            }
-        }
+    fn constant_mass(&self) -> bool {
+        false
     }
 
-    /// The force is the gradient of the strain energy along position perturbations and body
-    /// spins.
-    #[test]
-    fn force_matches_energy_gradient() {
-        for th in theories() {
-            let (el, n0) = element(th, MassModel::Lumped);
-            let n = deformed(&n0);
-            let mut f = Vec12::zeros();
-            el.internal_force(&n, &mut f);
-            let h = 1e-6;
-            for j in 0..12 {
-                let up = el.strain_energy(&perturbed(&n, j, h));
-                let um = el.strain_energy(&perturbed(&n, j, -h));
-                let fd = (up - um) / (2.0 * h);
-                assert!(
-                    (fd - f[j]).abs() <= 1e-6 * f.norm(),
-                    "{th:?} dof {j}: {fd} vs {}",
-                    f[j]
-                );
-            }
-        }
+    fn mass_into(&self, s: &ElementState<ELEMENT_DOFS>, m: &mut Mat12) {
+        *m = self.mass_matrix(&Self::nodes_of(s));
     }
 
-    /// Force and moment balance of the internal force for any configuration.
-    #[test]
-    fn internal_force_is_self_equilibrated() {
-        let (el, n0) = element(Theory::Timoshenko, MassModel::Lumped);
-        let n = deformed(&n0);
-        let mut f = Vec12::zeros();
-        el.internal_force(&n, &mut f);
-        let f1 = Vector3::new(f[0], f[1], f[2]);
-        let f2 = Vector3::new(f[6], f[7], f[8]);
-        let m1 = n.r[0] * Vector3::new(f[3], f[4], f[5]);
-        let m2 = n.r[1] * Vector3::new(f[9], f[10], f[11]);
-        assert!((f1 + f2).norm() < 1e-10 * f.norm());
-        let mom = m1 + m2 + n.x[0].cross(&f1) + n.x[1].cross(&f2);
-        assert!(mom.norm() < 1e-9 * f.norm(), "{mom:?}");
+    /// `Q_g = Σ_p B_pᵀ μ_p g` over the mass points (and the end masses of the lumped model).
+    fn gravity_into(&self, s: &ElementState<ELEMENT_DOFS>, g: &Vector3<f64>, f: &mut Vec12) {
+        let zero = Rates::default();
+        f.fill(0.0);
+        self.inertia_force(&Self::nodes_of(s), &zero, &zero, g, f, None);
+        f.neg_mut();
     }
 
-    /// The tangent against central differences of the force (positions and body spins), at
-    /// the reference and at a large deformed configuration.
-    #[test]
-    fn tangent_matches_finite_differences() {
-        for th in theories() {
-            let (el, n0) = element(th, MassModel::Lumped);
-            for n in [n0, deformed(&n0)] {
-                let mut f = Vec12::zeros();
+    fn strain_energy_at(&self, s: &ElementState<ELEMENT_DOFS>) -> f64 {
+        self.strain_energy(&Self::nodes_of(s))
+    }
+
+    fn force_into(&self, s: &ElementState<ELEMENT_DOFS>, f: &mut Vec12) -> f64 {
+        self.internal_force(&Self::nodes_of(s), f)
+    }
+
+    /// Exact tangent, rotation columns chained with `T(θ)`; no material damping (`C = 0`).
+    fn tangent_into(
+        &self,
+        s: &ElementState<ELEMENT_DOFS>,
+        f: &mut Vec12,
+        k: &mut Mat12,
+        c: &mut Mat12,
+    ) -> f64 {
+        c.fill(0.0);
+        let u = self.internal_force_tangent(&Self::nodes_of(s), f, k);
+        Self::chain_rotations(s, k);
+        u
+    }
+
+    fn kinetic_energy_at(&self, s: &ElementState<ELEMENT_DOFS>) -> f64 {
+        self.kinetic_energy(&Self::nodes_of(s), &Rates::from_vec(&s.v))
+    }
+
+    /// Inertia (mass, gyroscopic and configuration terms, gravity on the mass points) plus
+    /// internal force; the configuration derivatives of both are chained with `T(θ)`.
+    fn residual_into(
+        &self,
+        s: &ElementState<ELEMENT_DOFS>,
+        a: &Vec12,
+        g: &Vector3<f64>,
+        f: &mut Vec12,
+        mat: Option<(crate::model::JacobianCoeffs, &mut Mat12)>,
+    ) -> f64 {
+        let nodes = Self::nodes_of(s);
+        let v = Rates::from_vec(&s.v);
+        let a = Rates::from_vec(a);
+        match mat {
+            Some((c, out)) => {
                 let mut k = Mat12::zeros();
-                el.internal_force_tangent(&n, &mut f, &mut k);
-                let h = 1e-7;
-                let mut fd = Mat12::zeros();
-                for j in 0..12 {
-                    let (mut fp, mut fm) = (Vec12::zeros(), Vec12::zeros());
-                    el.internal_force(&perturbed(&n, j, h), &mut fp);
-                    el.internal_force(&perturbed(&n, j, -h), &mut fm);
-                    fd.set_column(j, &((fp - fm) / (2.0 * h)));
-                }
-                let err = (fd - k).norm() / k.norm();
-                assert!(err < 1e-7, "{th:?}: relative tangent error {err}");
+                out.fill(0.0);
+                let u = self.internal_force_tangent(&nodes, f, &mut k);
+                self.inertia_force(&nodes, &v, &a, g, f, Some((c.mass, c.damping, out, &mut k)));
+                Self::chain_rotations(s, &mut k);
+                *out += k * c.stiffness;
+                u
             }
-        }
-    }
-
-    /// Small deflections of a single element equal the classical beam element: tip force P on
-    /// a cantilever gives `P L³/(3EI) (+ P L/GA for Timoshenko)`, tip moment `M L²/(2EI)`,
-    /// axial `P L/EA`, torsion `T L/GJ`.
-    #[test]
-    fn linear_response_of_one_element() {
-        let s = section();
-        let l0 = 0.7;
-        for th in theories() {
-            let el = Corot3d::new(l0, Matrix3::identity(), &s, th, MassModel::Lumped);
-            let n = Nodes {
-                x: [Vector3::zeros(), Vector3::new(l0, 0.0, 0.0)],
-                r: [Matrix3::identity(); 2],
-            };
-            let mut f = Vec12::zeros();
-            let mut k = Mat12::zeros();
-            el.internal_force_tangent(&n, &mut f, &mut k);
-            let kff = k.fixed_view::<6, 6>(6, 6).into_owned();
-            let c = kff.try_inverse().unwrap();
-            let shear = |ga: f64| {
-                if th == Theory::Timoshenko {
-                    l0 / ga
-                } else {
-                    0.0
-                }
-            };
-            let l3 = l0 * l0 * l0;
-            let expect = [
-                (0, 0, l0 / s.ea),
-                (1, 1, l3 / (3.0 * s.ei_z) + shear(s.ga_y)),
-                (2, 2, l3 / (3.0 * s.ei_y) + shear(s.ga_z)),
-                (3, 3, l0 / s.gj),
-                (1, 5, l0 * l0 / (2.0 * s.ei_z)),
-                (2, 4, -l0 * l0 / (2.0 * s.ei_y)),
-                (5, 5, l0 / s.ei_z),
-            ];
-            for (i, j, v) in expect {
-                assert!(
-                    (c[(i, j)] - v).abs() < 1e-9 * v.abs(),
-                    "{th:?} flexibility ({i},{j}) = {} vs {v}",
-                    c[(i, j)]
-                );
-            }
-        }
-    }
-
-    /// Total mass and the rigid-body inertia of a straight element are exact for both mass
-    /// models: the kinetic energy of any rigid motion (v, ω) about any current orientation is
-    /// `½ m |v_c|² + ½ ωᵀ J ω` with `J = m l²/12 (I − t tᵀ) + l Q R0 J_sec R0ᵀ Qᵀ`.
-    #[test]
-    fn rigid_body_inertia_is_exact() {
-        let s = section();
-        for mass in [MassModel::Lumped, MassModel::Consistent] {
-            let (el, n0) = element(Theory::Timoshenko, mass);
-            let l = el.length();
-            let m = s.rho_a * l;
-            let q = exp_so3(&Vector3::new(-0.4, 2.2, 1.9));
-            let n = Nodes {
-                x: [q * n0.x[0], q * n0.x[1]],
-                r: [q, q],
-            };
-            let mm = el.mass_matrix(&n);
-            let mut total = 0.0;
-            for i in [0, 6] {
-                for j in [0, 6] {
-                    total += mm[(i, j)];
-                }
-            }
-            assert!(
-                (total - m).abs() < 1e-13 * m,
-                "{mass:?}: total mass {total}"
-            );
-            let xc = 0.5 * (n.x[0] + n.x[1]);
-            let t = (n.x[1] - n.x[0]) / l;
-            let js = Matrix3::from_diagonal(&Vector3::new(s.rho_jx, s.rho_iy, s.rho_iz));
-            let jrig = (Matrix3::identity() - t * t.transpose()) * (m * l * l / 12.0)
-                + q * el.reference_frame()
-                    * js
-                    * el.reference_frame().transpose()
-                    * q.transpose()
-                    * l;
-            for (vc, w) in [
-                (Vector3::new(1.0, -2.0, 0.5), Vector3::zeros()),
-                (Vector3::zeros(), Vector3::new(0.3, 1.1, -0.7)),
-                (Vector3::new(0.2, 0.1, -0.3), Vector3::new(-2.0, 0.4, 0.9)),
-            ] {
-                let v = Rates {
-                    x: [vc + w.cross(&(n.x[0] - xc)), vc + w.cross(&(n.x[1] - xc))],
-                    w: [q.transpose() * w, q.transpose() * w],
-                };
-                let ke = el.kinetic_energy(&n, &v);
-                let exact = 0.5 * m * vc.norm_squared() + 0.5 * w.dot(&(jrig * w));
-                assert!(
-                    (ke - exact).abs() < 1e-12 * exact,
-                    "{mass:?}: {ke} vs {exact}"
-                );
-            }
-        }
-    }
-
-    /// The kinetic energy is ½ vᵀ M v, and the inertia force is consistent with it: its power
-    /// equals dT/dt along a motion (checked with central differences in time), which tests
-    /// the convective terms.
-    #[test]
-    fn inertia_force_power_is_kinetic_energy_rate() {
-        for mass in [MassModel::Lumped, MassModel::Consistent] {
-            let (el, n0) = element(Theory::EulerBernoulli, mass);
-            let n = deformed(&n0);
-            let vv = Vec12::from_column_slice(&[
-                0.3, -0.2, 0.5, 1.5, -0.7, 2.0, -0.1, 0.4, 0.2, -1.0, 0.8, 1.7,
-            ]);
-            let av = Vec12::from_column_slice(&[
-                1.0, 0.5, -0.3, -2.0, 0.6, 0.9, 0.2, -0.8, 0.6, 1.3, -0.4, 0.7,
-            ]);
-            let (v, a) = (Rates::from_vec(&vv), Rates::from_vec(&av));
-            let mm = el.mass_matrix(&n);
-            let t = el.kinetic_energy(&n, &v);
-            assert!((t - 0.5 * vv.dot(&(mm * vv))).abs() < 1e-12 * t);
-            let mut f = Vec12::zeros();
-            el.inertia_force(&n, &v, &a, &Vector3::zeros(), &mut f, None);
-            // Motion: x(s) = x + s ẋ + ½ s² ẍ, R(s) = R exp(s Ω + ½ s² Ω̇), v(s) = v + s a.
-            let at = |s: f64| {
-                let mut p = n;
-                let mut r = v;
-                for i in 0..2 {
-                    p.x[i] = n.x[i] + v.x[i] * s + a.x[i] * (0.5 * s * s);
-                    p.r[i] = n.r[i] * exp_so3(&(v.w[i] * s + a.w[i] * (0.5 * s * s)));
-                    r.x[i] = v.x[i] + a.x[i] * s;
-                    r.w[i] = v.w[i] + a.w[i] * s;
-                }
-                el.kinetic_energy(&p, &r)
-            };
-            let h = 1e-5;
-            let dtdt = (at(h) - at(-h)) / (2.0 * h);
-            let power = f.dot(&vv);
-            assert!(
-                (dtdt - power).abs() < 1e-7 * power.abs().max(1.0),
-                "{mass:?}: dT/dt {dtdt} vs power {power}"
-            );
-        }
-    }
-
-    /// Lagrange's equations in body coordinates: the inertia force equals
-    /// `d/dt(∂T/∂v) − ∂T/∂(x, W)` (the Euler–Poincaré form), with all derivatives by central
-    /// differences of the kinetic energy. Checks every convective term individually.
-    #[test]
-    fn inertia_force_matches_lagrange_equations() {
-        for mass in [MassModel::Lumped, MassModel::Consistent] {
-            let (el, n0) = element(Theory::Timoshenko, mass);
-            let n = deformed(&n0);
-            let vv = Vec12::from_column_slice(&[
-                0.3, -0.2, 0.5, 1.5, -0.7, 2.0, -0.1, 0.4, 0.2, -1.0, 0.8, 1.7,
-            ]);
-            let av = Vec12::from_column_slice(&[
-                1.0, 0.5, -0.3, -2.0, 0.6, 0.9, 0.2, -0.8, 0.6, 1.3, -0.4, 0.7,
-            ]);
-            let (v, a) = (Rates::from_vec(&vv), Rates::from_vec(&av));
-            let mut f = Vec12::zeros();
-            el.inertia_force(&n, &v, &a, &Vector3::zeros(), &mut f, None);
-            // p = ∂T/∂v = M(q) v; d/dt along the motion; ∂T/∂q along body spins with v fixed.
-            let momentum = |nn: &Nodes, vel: &Vec12| el.mass_matrix(nn) * vel;
-            let h = 1e-5;
-            let step = |s: f64| {
-                let mut p = n;
-                for i in 0..2 {
-                    p.x[i] = n.x[i] + v.x[i] * s;
-                    p.r[i] = n.r[i] * exp_so3(&(v.w[i] * s));
-                }
-                p
-            };
-            let pdot = (momentum(&step(h), &(vv + av * h)) - momentum(&step(-h), &(vv - av * h)))
-                / (2.0 * h);
-            let mut dtdq = Vec12::zeros();
-            for j in 0..12 {
-                let tp = el.kinetic_energy(&perturbed(&n, j, h), &v);
-                let tm = el.kinetic_energy(&perturbed(&n, j, -h), &v);
-                dtdq[j] = (tp - tm) / (2.0 * h);
-            }
-            // Body angular velocities: d/dt(∂T/∂Ω) + Ω × ∂T/∂Ω − ∂T/∂W (Euler–Poincaré).
-            let mut lag = pdot - dtdq;
-            let p = momentum(&n, &vv);
-            for i in 0..2 {
-                let pw = Vector3::new(p[6 * i + 3], p[6 * i + 4], p[6 * i + 5]);
-                let c = v.w[i].cross(&pw);
-                for k in 0..3 {
-                    lag[6 * i + 3 + k] += c[k];
-                }
-            }
-            let err = (lag - f).norm() / f.norm();
-            assert!(err < 1e-7, "{mass:?}: relative error {err}\n{lag}\n{f}");
-        }
-    }
-
-    /// Mass, gyroscopic and configuration derivatives of the inertia force (with gravity)
-    /// against central differences.
-    #[test]
-    fn inertia_derivatives_match_finite_differences() {
-        let g = Vector3::new(0.5, -9.81, 2.0);
-        for mass in [MassModel::Lumped, MassModel::Consistent] {
-            let (el, n0) = element(Theory::EulerBernoulli, mass);
-            let n = deformed(&n0);
-            let vv = Vec12::from_column_slice(&[
-                0.3, -0.2, 0.5, 1.5, -0.7, 2.0, -0.1, 0.4, 0.2, -1.0, 0.8, 1.7,
-            ]);
-            let av = Vec12::from_column_slice(&[
-                1.0, 0.5, -0.3, -2.0, 0.6, 0.9, 0.2, -0.8, 0.6, 1.3, -0.4, 0.7,
-            ]);
-            let force = |nn: &Nodes, v: &Vec12, a: &Vec12| {
-                let mut f = Vec12::zeros();
-                el.inertia_force(
-                    nn,
-                    &Rates::from_vec(v),
-                    &Rates::from_vec(a),
-                    &g,
-                    &mut f,
-                    None,
-                );
-                f
-            };
-            let mut mm = Mat12::zeros();
-            let mut cc = Mat12::zeros();
-            let mut kk = Mat12::zeros();
-            let mut f = Vec12::zeros();
-            let mut dummy = Mat12::zeros();
-            let (v, a) = (Rates::from_vec(&vv), Rates::from_vec(&av));
-            el.inertia_force(&n, &v, &a, &g, &mut f, Some((1.0, 0.0, &mut mm, &mut kk)));
-            el.inertia_force(
-                &n,
-                &v,
-                &a,
-                &g,
-                &mut f,
-                Some((0.0, 1.0, &mut cc, &mut dummy)),
-            );
-            let h = 1e-6;
-            let (mut fdm, mut fdc, mut fdk) = (Mat12::zeros(), Mat12::zeros(), Mat12::zeros());
-            for j in 0..12 {
-                let mut e = Vec12::zeros();
-                e[j] = h;
-                fdm.set_column(
-                    j,
-                    &((force(&n, &vv, &(av + e)) - force(&n, &vv, &(av - e))) / (2.0 * h)),
-                );
-                fdc.set_column(
-                    j,
-                    &((force(&n, &(vv + e), &av) - force(&n, &(vv - e), &av)) / (2.0 * h)),
-                );
-                fdk.set_column(
-                    j,
-                    &((force(&perturbed(&n, j, h), &vv, &av)
-                        - force(&perturbed(&n, j, -h), &vv, &av))
-                        / (2.0 * h)),
-                );
-            }
-            for (name, fd, an) in [("M", fdm, mm), ("C", fdc, cc), ("K", fdk, kk)] {
-                let err = (fd - an).norm() / an.norm();
-                assert!(err < 1e-7, "{mass:?} {name}: relative error {err}");
-            }
-            assert!((mm - mm.transpose()).norm() < 1e-14 * mm.norm());
-        }
-    }
-
-    /// The lumped mid-point is the centre-line point of the Hermite interpolation at ξ = ½,
-    /// which to first order is the co-rotated cubic: `x_mid = ½(x1 + x2) + Rr (l0/8)
-    /// [0, θ̄_1z − θ̄_2z, −(θ̄_1y − θ̄_2y)]` (reference B.4).
-    #[test]
-    fn mid_point_matches_corotated_cubic() {
-        let (el, n0) = element(Theory::EulerBernoulli, MassModel::Lumped);
-        let q = exp_so3(&Vector3::new(0.4, 0.9, -1.2));
-        for eps in [1e-2, 1e-3, 1e-4] {
-            let n = Nodes {
-                x: [q * n0.x[0], q * n0.x[1]],
-                r: [
-                    q * exp_so3(&(Vector3::new(0.2, -0.5, 0.7) * eps)),
-                    q * exp_so3(&(Vector3::new(-0.3, 0.4, 0.1) * eps)),
-                ],
-            };
-            let loc = el.local(&n);
-            let [t1, t2] = loc.theta;
-            let cubic = 0.5 * (n.x[0] + n.x[1])
-                + loc.rr * Vector3::new(0.0, t1.z - t2.z, -(t1.y - t2.y)) * (el.length() / 8.0);
-            let offset = (cubic - 0.5 * (n.x[0] + n.x[1])).norm();
-            let err = (cubic - el.centre_line(&n, 0.5)).norm();
-            // first-order offset, second-order difference
-            assert!(offset > 0.05 * eps * el.length(), "offset {offset}");
-            assert!(
-                err < eps * offset,
-                "eps {eps}: difference {err} vs offset {offset}"
-            );
-        }
-    }
-
-    /// Chain to incremental rotation vectors: with `R = R_ref exp(θ̃)`, the derivative with
-    /// respect to θ is the body-spin tangent times `T(θ)`.
-    #[test]
-    fn chain_to_rotation_vectors() {
-        let (el, n0) = element(Theory::Timoshenko, MassModel::Lumped);
-        let n = deformed(&n0);
-        let theta = [Vector3::new(0.5, -1.2, 2.0), Vector3::new(-0.1, 0.3, 0.2)];
-        let at = |th: [Vector3<f64>; 2]| Nodes {
-            x: n.x,
-            r: [n.r[0] * exp_so3(&th[0]), n.r[1] * exp_so3(&th[1])],
-        };
-        let cur = at(theta);
-        let mut f = Vec12::zeros();
-        let mut k = Mat12::zeros();
-        el.internal_force_tangent(&cur, &mut f, &mut k);
-        let h = 1e-7;
-        for node in 0..2 {
-            let t = tangent_body(&theta[node]);
-            let chained = k.fixed_view::<12, 3>(0, 6 * node + 3) * t;
-            for c in 0..3 {
-                let (mut tp, mut tm) = (theta, theta);
-                tp[node][c] += h;
-                tm[node][c] -= h;
-                let (mut fp, mut fm) = (Vec12::zeros(), Vec12::zeros());
-                el.internal_force(&at(tp), &mut fp);
-                el.internal_force(&at(tm), &mut fm);
-                let fd = (fp - fm) / (2.0 * h);
-                let err = (fd - chained.column(c)).norm() / k.norm();
-                assert!(err < 1e-7, "node {node} component {c}: {err}");
+            None => {
+                let u = self.internal_force(&nodes, f);
+                self.inertia_force(&nodes, &v, &a, g, f, None);
+                u
             }
         }
     }

@@ -1,12 +1,24 @@
-//! Finite-element kernels: one file per element, each in the fixed order
-//! shape functions, mass, internal forces, tangent.
+//! Finite elements: one file per element, each in the fixed order shape functions, mass,
+//! internal forces, tangent, then its implementation of the one [`Element`] trait.
 //!
 //! Kernels are pure functions of the element coordinates and of precomputed reference data; the
-//! assembly ([`crate::assembly`]) gathers, calls and scatters.
+//! assembly ([`crate::assembly::ElementSet`]) gathers, calls and scatters. Node frames
+//! ([`node_frames`]) hold the orientations of elements with rotational coordinates. Every
+//! element passes the conformance checks ([`conformance`], one line per element in
+//! `src/elements/tests/`).
 
 pub mod ancf_cable2d;
 pub mod ancf_shear2d;
+pub mod conformance;
 pub mod corotational3d;
+pub mod element;
+pub mod finite_difference;
 pub mod material;
+pub mod node_frames;
 pub mod quadrature;
 pub mod rotation;
+
+#[cfg(test)]
+mod tests;
+
+pub use element::{Element, ElementState, Frame, Layout, Slot};

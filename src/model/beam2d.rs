@@ -2,11 +2,12 @@
 //! probes and energies.
 
 use super::system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
-use crate::assembly::{Assembly, DofMap};
+use crate::assembly::{Assembly, DofMap, ElementSet, Eval, check_finite};
 use crate::elements::ancf_shear2d::{
-    AncfShear2d, ElemMat, ElemVec, NODE_COORDS, Section, ShearRule,
+    ELEMENT_COORDS, ElemMat, ElemVec, NODE_COORDS, Section, Shear2dElement, ShearRule,
 };
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
+use crate::elements::{Element, ElementState};
 use crate::integrators::DynState;
 use crate::linalg::{CscPattern, LinearSolver, SolverKind};
 use crate::model::inputs::InputSignal;
@@ -14,7 +15,7 @@ use crate::scene::file::{Axis, ProbeQuantity, SceneFile, SupportKind};
 use crate::scene::params::{ParamValues, names::*};
 use crate::snapshot::{StateReader, StateWriter};
 use crate::variables::{EnergyKind, InputKind, OutputKind};
-use nalgebra::Vector2;
+use nalgebra::{Vector2, Vector3};
 
 /// Interpolation of a centre-line point: nodes `a`, `a + 1` with weights `1 − ξ`, `ξ` on their
 /// positions (the gradient terms vanish at y = 0).
@@ -51,11 +52,8 @@ impl PointMap {
 #[derive(Clone, Debug)]
 pub struct Beam2d {
     length: f64,
-    elements: Vec<AncfShear2d>,
-    mass_elem: Vec<ElemMat>,
-    law: PlaneElasticity,
+    set: ElementSet<Shear2dElement, ELEMENT_COORDS>,
     asm: Assembly,
-    mass_vals: Vec<f64>,
     gravity_full: Vec<f64>,
     q0: Vec<f64>,
     load_maps: Vec<PointMap>,
@@ -74,6 +72,7 @@ pub struct Beam2d {
     // work buffers
     qw: Vec<f64>,
     qw2: Vec<f64>,
+    vw: Vec<f64>,
     aw: Vec<f64>,
     fw: Vec<f64>,
     /// Interface Jacobian of the motion ports, see [`Beam2d::interface_jacobian`].
@@ -213,23 +212,22 @@ impl Beam2d {
         if dofs.n_free() == 0 {
             return Err("the supports fix every coordinate: nothing left to simulate".into());
         }
-        let element_dofs: Vec<usize> = (0..n_el).flat_map(|e| e * 4..e * 4 + 8).collect();
-        let asm = Assembly::new(dofs, 8, element_dofs, &[]);
+        let connectivity: Vec<[usize; ELEMENT_COORDS]> = (0..n_el)
+            .map(|e| std::array::from_fn(|i| e * NODE_COORDS + i))
+            .collect();
+        let asm = Assembly::new(dofs, &[(ELEMENT_COORDS, connectivity.as_flattened())], &[]);
 
         let mut elements = Vec::with_capacity(n_el);
-        let mut mass_elem = Vec::with_capacity(n_el);
-        let mut gravity_full = vec![0.0; n_full];
-        let mut mass_vals = vec![0.0; asm.pattern.nnz()];
-        for e in 0..n_el {
-            let e0: ElemVec = asm.gather(e, &q0);
-            let el = AncfShear2d::new(&e0, le, section, rule)
+        for (e, d) in connectivity.iter().enumerate() {
+            let e0 = ElemVec::from_fn(|i, _| q0[d[i]]);
+            let el = Shear2dElement::new(&e0, le, section, rule, law, rho)
                 .ok_or_else(|| format!("element {e}: degenerate reference geometry"))?;
-            let m = el.mass(&e0, rho);
-            asm.add_matrix(e, &m, 1.0, &mut mass_vals);
-            asm.add_vector(e, &el.gravity(&e0, rho, gravity), 1.0, &mut gravity_full);
-            mass_elem.push(m);
             elements.push(el);
         }
+        let set = ElementSet::new(elements, connectivity, &asm);
+        let mut gravity_full = vec![0.0; n_full];
+        let g3 = Vector3::new(gravity.x, gravity.y, 0.0);
+        set.add_gravity(&q0, None, &g3, 1.0, &mut gravity_full);
         // Initial rigid rotation about the first end: v = ω × (r − r₀) for positions, ω × n for
         // the cross-section gradients.
         let omega = p
@@ -288,11 +286,8 @@ impl Beam2d {
             .collect();
         Ok(Self {
             length,
-            elements,
-            mass_elem,
-            law,
+            set,
             asm,
-            mass_vals,
             gravity_full,
             t: 0.0,
             q: q0.clone(),
@@ -300,6 +295,7 @@ impl Beam2d {
             acc: vec![0.0; n_full],
             qw: q0.clone(),
             qw2: q0.clone(),
+            vw: vec![0.0; n_full],
             aw: vec![0.0; n_full],
             fw: vec![0.0; n_full],
             interface: Interface {
@@ -324,7 +320,7 @@ impl Beam2d {
 
     /// Number of elements.
     pub fn n_elements(&self) -> usize {
-        self.elements.len()
+        self.set.len()
     }
 
     /// Full coordinate vector of the committed state.
@@ -370,7 +366,7 @@ impl Beam2d {
 
     /// Elements adjacent to a node.
     fn elements_at(&self, node: usize) -> impl Iterator<Item = usize> {
-        let n_el = self.elements.len();
+        let n_el = self.set.len();
         [node.checked_sub(1), (node < n_el).then_some(node)]
             .into_iter()
             .flatten()
@@ -384,11 +380,12 @@ impl Beam2d {
         let mut r = [0.0; 2];
         let mut fe = ElemVec::zeros();
         for e in self.elements_at(node) {
-            let qe: ElemVec = self.asm.gather(e, q);
-            let ae: ElemVec = self.asm.gather(e, a);
-            self.elements[e].internal_force(&qe, &self.law, &mut fe);
-            fe += self.mass_elem[e] * ae;
-            let local = if self.asm.element_dofs(e)[0] == base {
+            let s = ElementState::new(self.set.gather(e, q), ElemVec::zeros());
+            let ae = self.set.gather(e, a);
+            let el = self.set.element(e);
+            el.force_into(&s, &mut fe);
+            fe += el.mass() * ae;
+            let local = if self.set.element_dofs(e)[0] == base {
                 0
             } else {
                 4
@@ -416,13 +413,14 @@ impl Beam2d {
     fn port_rows(&self, port: usize, c_m: f64) -> Vec<(usize, [f64; 2])> {
         let node = self.motion_nodes[port];
         let base = node * NODE_COORDS;
-        let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
+        let (mut fe, mut ke, mut ce) = (ElemVec::zeros(), ElemMat::zeros(), ElemMat::zeros());
         let mut rows: Vec<(usize, [f64; 2])> = Vec::new();
         for e in self.elements_at(node) {
-            let qe: ElemVec = self.asm.gather(e, &self.q);
-            self.elements[e].internal_force_tangent(&qe, &self.law, &mut fe, &mut ke);
-            ke += c_m * self.mass_elem[e];
-            let dofs = self.asm.element_dofs(e);
+            let s = ElementState::new(self.set.gather(e, &self.q), ElemVec::zeros());
+            let el = self.set.element(e);
+            el.tangent_into(&s, &mut fe, &mut ke, &mut ce);
+            ke += c_m * el.mass();
+            let dofs = self.set.element_dofs(e);
             let local = if dofs[0] == base { 0 } else { 4 };
             for (j, &col) in dofs.iter().enumerate() {
                 let entry = [ke[(local, j)], ke[(local + 1, j)]];
@@ -477,13 +475,22 @@ impl Beam2d {
         let mut vals = std::mem::take(&mut self.interface.vals);
         vals.clear();
         vals.resize(self.asm.pattern.nnz(), 0.0);
-        let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
-        for e in 0..self.elements.len() {
-            let qe: ElemVec = self.asm.gather(e, &self.q);
-            self.elements[e].internal_force_tangent(&qe, &self.law, &mut fe, &mut ke);
-            self.asm
-                .add_matrix(e, &(ke + c_m * self.mass_elem[e]), 1.0, &mut vals);
-        }
+        let mut f = std::mem::take(&mut self.fw);
+        f.fill(0.0);
+        let coeffs = JacobianCoeffs {
+            mass: c_m,
+            damping: 0.0,
+            stiffness: 1.0,
+        };
+        let x = Eval {
+            q: &self.q,
+            v: &self.v,
+            a: &self.acc,
+            g: Vector3::zeros(),
+        };
+        self.set
+            .add_residual(&x, None, &mut f, Some((coeffs, &mut vals)));
+        self.fw = f;
         let solver = match self.interface.solver.take() {
             Some(s) => Some(s),
             None => LinearSolver::new(&self.asm.pattern, SolverKind::Auto).ok(),
@@ -569,12 +576,7 @@ impl Beam2d {
 
     /// `½ vᵀ M v` [J] of the committed state.
     pub fn kinetic_energy(&self) -> f64 {
-        (0..self.elements.len())
-            .map(|e| {
-                let ve: ElemVec = self.asm.gather(e, &self.v);
-                0.5 * ve.dot(&(self.mass_elem[e] * ve))
-            })
-            .sum()
+        self.set.kinetic_energy(&self.q, &self.v, None)
     }
 
     /// Gravity potential `−Q_gᵀ q` [J] of the committed state.
@@ -589,26 +591,19 @@ impl Beam2d {
 
     /// Strain energy [J] of the committed state.
     pub fn strain_energy(&self) -> f64 {
-        (0..self.elements.len())
-            .map(|e| {
-                let qe: ElemVec = self.asm.gather(e, &self.q);
-                self.elements[e].strain_energy(&qe, &self.law)
-            })
-            .sum()
+        self.set.strain_energy(&self.q, None)
     }
 
     /// Time derivatives of the energies: `(dT/dt, dV/dt, dU/dt)` [W] of the committed state.
     fn energy_rates(&self) -> (f64, f64, f64) {
         let (mut dt, mut du) = (0.0, 0.0);
         let mut fe = ElemVec::zeros();
-        for e in 0..self.elements.len() {
-            let ve: ElemVec = self.asm.gather(e, &self.v);
-            let ae: ElemVec = self.asm.gather(e, &self.acc);
-            let qe: ElemVec = self.asm.gather(e, &self.q);
-            dt += ve.dot(&(self.mass_elem[e] * ae));
-            self.elements[e].internal_force(&qe, &self.law, &mut fe);
-            du += fe.dot(&ve);
-        }
+        self.set.for_each_state(&self.q, &self.v, None, |e, el, s| {
+            let ae = self.set.gather(e, &self.acc);
+            dt += s.v.dot(&(el.mass() * ae));
+            el.force_into(s, &mut fe);
+            du += fe.dot(&s.v);
+        });
         let dv = -self
             .gravity_full
             .iter()
@@ -633,35 +628,13 @@ impl Beam2d {
         }
     }
 
-    /// Adds `M a` (element by element, so that prescribed accelerations count).
-    fn add_inertia(&self, a_full: &[f64], full: &mut [f64]) {
-        for e in 0..self.elements.len() {
-            let ae: ElemVec = self.asm.gather(e, a_full);
-            self.asm.add_vector(e, &(self.mass_elem[e] * ae), 1.0, full);
-        }
-    }
-
-    fn start_jacobian(&self, coeffs: JacobianCoeffs, vals: &mut [f64]) {
-        for (j, m) in vals.iter_mut().zip(&self.mass_vals) {
-            *j = coeffs.mass * m;
-        }
-    }
-
     fn finish(
         &self,
         r: &mut [f64],
         jac: &Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
         self.asm.dofs.restrict(&self.fw, r);
-        if r.iter().any(|x| !x.is_finite()) {
-            return Err(ModelError::NonFinite);
-        }
-        if let Some((_, vals)) = jac {
-            if vals.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::NonFinite);
-            }
-        }
-        Ok(())
+        check_finite(r, jac.as_ref().map(|(_, vals)| &**vals))
     }
 
     /// The signal of an input; planar scenes declare no z forces and no moments (see
@@ -857,38 +830,36 @@ impl MechanicalSystem for Beam2d {
         &mut self,
         t: f64,
         q: &[f64],
-        _v: &[f64],
+        v: &[f64],
         a: &[f64],
         load_factor: f64,
         r: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let (mut qw, mut aw) = (std::mem::take(&mut self.qw), std::mem::take(&mut self.aw));
+        let (mut qw, mut vw, mut aw) = (
+            std::mem::take(&mut self.qw),
+            std::mem::take(&mut self.vw),
+            std::mem::take(&mut self.aw),
+        );
         self.asm.dofs.expand(q, &mut qw);
+        self.asm.dofs.expand(v, &mut vw);
         self.asm.dofs.expand(a, &mut aw);
-        self.apply_prescribed(t, load_factor, Some(&mut qw), None, Some(&mut aw));
+        self.apply_prescribed(t, load_factor, Some(&mut qw), Some(&mut vw), Some(&mut aw));
         let mut f = std::mem::take(&mut self.fw);
-        f.iter_mut().for_each(|x| *x = 0.0);
-        if let Some((c, vals)) = jac.as_mut() {
-            self.start_jacobian(*c, vals);
+        f.fill(0.0);
+        if let Some((_, vals)) = jac.as_mut() {
+            vals.fill(0.0);
         }
-        let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
-        for e in 0..self.elements.len() {
-            let qe: ElemVec = self.asm.gather(e, &qw);
-            match jac.as_mut() {
-                Some((c, vals)) => {
-                    self.elements[e].internal_force_tangent(&qe, &self.law, &mut fe, &mut ke);
-                    self.asm.add_matrix(e, &ke, c.stiffness, vals);
-                }
-                None => {
-                    self.elements[e].internal_force(&qe, &self.law, &mut fe);
-                }
-            }
-            self.asm.add_vector(e, &fe, 1.0, &mut f);
-        }
-        self.add_inertia(&aw, &mut f);
+        let x = Eval {
+            q: &qw,
+            v: &vw,
+            a: &aw,
+            g: Vector3::zeros(),
+        };
+        self.set
+            .add_residual(&x, None, &mut f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
         self.subtract_external(t, load_factor, &mut f);
-        (self.qw, self.aw, self.fw) = (qw, aw, f);
+        (self.qw, self.vw, self.aw, self.fw) = (qw, vw, aw, f);
         self.finish(r, &jac)
     }
 
@@ -898,50 +869,46 @@ impl MechanicalSystem for Beam2d {
         t_b: f64,
         q_a: &[f64],
         q_b: &[f64],
-        _v: &[f64],
+        v: &[f64],
         a: &[f64],
         r: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let (mut qa, mut qb, mut aw) = (
+        let (mut qa, mut qb, mut vw, mut aw) = (
             std::mem::take(&mut self.qw),
             std::mem::take(&mut self.qw2),
+            std::mem::take(&mut self.vw),
             std::mem::take(&mut self.aw),
         );
         self.asm.dofs.expand(q_a, &mut qa);
         self.asm.dofs.expand(q_b, &mut qb);
+        self.asm.dofs.expand(v, &mut vw);
         self.asm.dofs.expand(a, &mut aw);
         let t_mid = 0.5 * (t_a + t_b);
         self.apply_prescribed(t_a, 1.0, Some(&mut qa), None, None);
         self.apply_prescribed(t_b, 1.0, Some(&mut qb), None, None);
-        self.apply_prescribed(t_mid, 1.0, None, None, Some(&mut aw));
+        self.apply_prescribed(t_mid, 1.0, None, Some(&mut vw), Some(&mut aw));
         let mut f = std::mem::take(&mut self.fw);
-        f.iter_mut().for_each(|x| *x = 0.0);
-        if let Some((c, vals)) = jac.as_mut() {
-            self.start_jacobian(*c, vals);
+        f.fill(0.0);
+        if let Some((_, vals)) = jac.as_mut() {
+            vals.fill(0.0);
         }
-        let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
-        for e in 0..self.elements.len() {
-            let ea: ElemVec = self.asm.gather(e, &qa);
-            let eb: ElemVec = self.asm.gather(e, &qb);
-            match jac.as_mut() {
-                Some((c, vals)) => {
-                    self.elements[e].average_stress_force(
-                        &ea,
-                        &eb,
-                        &self.law,
-                        &mut fe,
-                        Some(&mut ke),
-                    );
-                    self.asm.add_matrix(e, &ke, c.stiffness, vals);
-                }
-                None => self.elements[e].average_stress_force(&ea, &eb, &self.law, &mut fe, None),
-            }
-            self.asm.add_vector(e, &fe, 1.0, &mut f);
-        }
-        self.add_inertia(&aw, &mut f);
+        // the average-stress form of the seed-000 element: exactly energy conserving
+        let x = Eval {
+            q: &qb,
+            v: &vw,
+            a: &aw,
+            g: Vector3::zeros(),
+        };
+        self.set.add_midpoint_residual(
+            &qa,
+            &qb,
+            &x,
+            &mut f,
+            jac.as_mut().map(|(c, v)| (*c, &mut **v)),
+        );
         self.subtract_external(t_mid, 1.0, &mut f);
-        (self.qw, self.qw2, self.aw, self.fw) = (qa, qb, aw, f);
+        (self.qw, self.qw2, self.vw, self.aw, self.fw) = (qa, qb, vw, aw, f);
         self.finish(r, &jac)
     }
 }

@@ -14,11 +14,12 @@
 
 use super::belt_layout::{Loop, PitchCircle};
 use super::system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
-use crate::assembly::{Assembly, DofMap};
+use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::circle_friction::{self, polar_angle};
 use crate::contact::{Circle, ContactLaw, PointHistory, PointState};
-use crate::elements::ancf_cable2d::{self, AncfCable2d, CableRule, CableSection, ElemMat, ElemVec};
-use crate::elements::ancf_shear2d::{self, AncfShear2d, Section, ShearRule};
+use crate::elements::Element;
+use crate::elements::ancf_cable2d::{self, AncfCable2d, CableRule, CableSection, ElemVec};
+use crate::elements::ancf_shear2d::{AncfShear2d, Section, Shear2dElement, ShearRule};
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::integrators::DynState;
 use crate::linalg::CscPattern;
@@ -31,9 +32,9 @@ use crate::scene::params::{
 use crate::snapshot::{StateReader, StateWriter};
 use crate::solver::simulation::SolverConfig;
 use crate::variables::{BeltOutput, EnergyKind, InputKind, OutputKind, PulleyInput};
-use nalgebra::{SMatrix, Vector2};
+use nalgebra::{SMatrix, Vector2, Vector3};
+use std::sync::Arc;
 
-const NONE: u32 = u32::MAX;
 /// Coordinates per belt node.
 const NC: usize = 4;
 
@@ -167,128 +168,83 @@ pub fn default_contact(
     }
 }
 
-#[derive(Clone, Debug)]
-enum Element {
-    Cable(AncfCable2d),
-    Shear {
-        el: AncfShear2d,
-        e0: ancf_shear2d::ElemVec,
-        law: PlaneElasticity,
-        ea: f64,
-        rho: f64,
-    },
+/// What the belt needs of its element besides the [`Element`] trait: centre-line weights and
+/// the axial force. Implemented by the cable and by the seed-000 beam; the belt holds one
+/// shared element of either type in its [`ElementSet`].
+trait BeltElement: Element<8> {
+    /// Reference length [m].
+    fn length(&self) -> f64;
+
+    /// Weights of the four nodal 2-vectors in the centre-line position at `x` [m].
+    fn centerline(&self, x: f64) -> [f64; 4];
+
+    /// Axial force at the middle of the element [N] for a belt of axial stiffness `ea` [N].
+    fn axial_force_mid(&self, q: &ElemVec, ea: f64) -> f64;
 }
 
-impl Element {
-    fn new(kind: BeltElementKind, sec: &CableSection, l: f64) -> Result<Self, String> {
-        Ok(match kind {
-            BeltElementKind::Cable(rule) => Element::Cable(AncfCable2d::new(l, *sec, rule)),
-            BeltElementKind::Shear => {
-                let h = (12.0 * sec.ei / sec.ea).sqrt();
-                let e0 = AncfShear2d::straight_reference(Vector2::zeros(), Vector2::new(l, 0.0));
-                let section = Section {
-                    width: 1.0,
-                    height: h,
-                };
-                let el = AncfShear2d::new(&e0, l, section, ShearRule::Fixed1x2)
-                    .ok_or("belt element: degenerate reference geometry")?;
-                Element::Shear {
-                    el,
-                    e0,
-                    law: PlaneElasticity::new(sec.ea / h, 0.3, 5.0 / 6.0, StrainEnergy::Decoupled),
-                    ea: sec.ea,
-                    rho: sec.mass_per_length / h,
-                }
-            }
-        })
-    }
-
+impl BeltElement for AncfCable2d {
     fn length(&self) -> f64 {
-        match self {
-            Element::Cable(c) => c.length(),
-            Element::Shear { el, .. } => el.length(),
-        }
+        AncfCable2d::length(self)
     }
 
-    fn mass(&self) -> ElemMat {
-        match self {
-            Element::Cable(c) => c.mass(),
-            Element::Shear { el, e0, rho, .. } => el.mass(e0, *rho),
-        }
-    }
-
-    fn gravity(&self, g: Vector2<f64>) -> ElemVec {
-        match self {
-            Element::Cable(c) => c.gravity(g),
-            Element::Shear { el, e0, rho, .. } => el.gravity(e0, *rho, g),
-        }
-    }
-
-    /// Weights of the four nodal 2-vectors in the centre-line position at `x`.
     fn centerline(&self, x: f64) -> [f64; 4] {
-        match self {
-            Element::Cable(c) => ancf_cable2d::shape_functions(c.length(), x),
-            Element::Shear { el, .. } => {
-                let xi = x / el.length();
-                [1.0 - xi, 0.0, xi, 0.0]
-            }
-        }
+        ancf_cable2d::shape_functions(AncfCable2d::length(self), x)
     }
 
-    fn strain_energy(&self, q: &ElemVec) -> f64 {
-        match self {
-            Element::Cable(c) => c.strain_energy(q),
-            Element::Shear { el, law, .. } => el.strain_energy(q, law),
-        }
+    /// The cable's own `EA(ε − ε0)` (its section is the belt's).
+    fn axial_force_mid(&self, q: &ElemVec, _ea: f64) -> f64 {
+        self.axial_force(q, 0.5 * AncfCable2d::length(self))
+    }
+}
+
+impl BeltElement for Shear2dElement {
+    fn length(&self) -> f64 {
+        self.kernel.length()
     }
 
-    fn force(&self, q: &ElemVec, qd: &ElemVec, f: &mut ElemVec) {
-        match self {
-            Element::Cable(c) => {
-                c.internal_force(q, qd, f);
-            }
-            Element::Shear { el, law, .. } => {
-                el.internal_force(q, law, f);
-            }
-        }
+    fn centerline(&self, x: f64) -> [f64; 4] {
+        let xi = x / self.kernel.length();
+        [1.0 - xi, 0.0, xi, 0.0]
     }
 
-    fn force_tangent(
-        &self,
-        q: &ElemVec,
-        qd: &ElemVec,
-        f: &mut ElemVec,
-        k: &mut ElemMat,
-        c: &mut ElemMat,
-    ) {
-        match self {
-            Element::Cable(el) => {
-                el.internal_force_tangent(q, qd, f, k, c);
-            }
-            Element::Shear { el, law, .. } => {
-                el.internal_force_tangent(q, law, f, k);
-                *c = ElemMat::zeros();
-            }
-        }
+    /// `EA (chord / l − 1)`.
+    fn axial_force_mid(&self, q: &ElemVec, ea: f64) -> f64 {
+        let d = Vector2::new(q[4] - q[0], q[5] - q[1]);
+        ea * (d.norm() / self.kernel.length() - 1.0)
     }
+}
 
-    /// Axial force at the middle of the element [N].
-    fn axial_force_mid(&self, q: &ElemVec) -> f64 {
-        match self {
-            Element::Cable(c) => c.axial_force(q, 0.5 * c.length()),
-            Element::Shear { el, ea, .. } => {
-                let d = Vector2::new(q[4] - q[0], q[5] - q[1]);
-                ea * (d.norm() / el.length() - 1.0)
-            }
+/// The belt element of a kind for section `sec` and reference length `l` [m]: a cable, or a
+/// seed-000 beam with an equivalent rectangle of height `h = √(12 EI/EA)`, unit width,
+/// `E = EA/h`, ν = 0.3, 1×2 shear rule.
+fn belt_element(
+    kind: BeltElementKind,
+    sec: &CableSection,
+    l: f64,
+) -> Result<Arc<dyn BeltElement>, String> {
+    Ok(match kind {
+        BeltElementKind::Cable(rule) => Arc::new(AncfCable2d::new(l, *sec, rule)),
+        BeltElementKind::Shear => {
+            let h = (12.0 * sec.ei / sec.ea).sqrt();
+            let e0 = AncfShear2d::straight_reference(Vector2::zeros(), Vector2::new(l, 0.0));
+            let section = Section {
+                width: 1.0,
+                height: h,
+            };
+            let law = PlaneElasticity::new(sec.ea / h, 0.3, 5.0 / 6.0, StrainEnergy::Decoupled);
+            Arc::new(
+                Shear2dElement::new(
+                    &e0,
+                    l,
+                    section,
+                    ShearRule::Fixed1x2,
+                    law,
+                    sec.mass_per_length / h,
+                )
+                .ok_or("belt element: degenerate reference geometry")?,
+            )
         }
-    }
-
-    fn damping_power(&self, q: &ElemVec, qd: &ElemVec) -> f64 {
-        match self {
-            Element::Cable(c) => c.damping_power(q, qd),
-            Element::Shear { .. } => 0.0,
-        }
-    }
+    })
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -325,8 +281,8 @@ pub struct PreloadReport {
 #[derive(Clone, Debug)]
 pub struct BeltDrive {
     spec: BeltSpec,
-    element: Element,
-    mass_e: ElemMat,
+    /// The belt's elements (one shared element: all have the same reference length).
+    set: ElementSet<Arc<dyn BeltElement>, 8>,
     n_el: usize,
     n_nodes: usize,
     closed: bool,
@@ -336,7 +292,9 @@ pub struct BeltDrive {
     cp: Vec<[f64; 4]>,
     cp_w: f64,
     hist: Vec<PointHistory>,
-    cpos: Vec<u32>,
+    /// Element coordinates plus the angle of pulley `k`, row `e · n_pulleys + k`: the contact
+    /// blocks.
+    contact_blocks: Connectivity<9>,
     gravity_full: Vec<f64>,
     end_loads: [Vector2<f64>; 2],
     span_mid: Vec<Vector2<f64>>,
@@ -417,7 +375,7 @@ impl BeltDrive {
             None => (nodes[1].0 - nodes[0].0).norm(),
         };
         let l_ref = mounted / stretch;
-        let element = Element::new(spec.element, s, l_ref)?;
+        let element = belt_element(spec.element, s, l_ref)?;
 
         // Coordinates: belt nodes, then one angle per pulley.
         let n_full = n_nodes * NC + np;
@@ -429,10 +387,10 @@ impl BeltDrive {
             }
         }
         let node = |k: usize| (k % n_nodes) * NC;
-        let element_dofs: Vec<usize> = (0..n_el)
-            .flat_map(|e| {
+        let connectivity: Vec<[usize; 8]> = (0..n_el)
+            .map(|e| {
                 let (a, b) = (node(e), node(e + 1));
-                (a..a + NC).chain(b..b + NC)
+                std::array::from_fn(|i| if i < NC { a + i } else { b + i - NC })
             })
             .collect();
         let mut extra = Vec::new();
@@ -441,25 +399,21 @@ impl BeltDrive {
                 extra.push((i, pd));
             }
         }
-        let asm = Assembly::new(DofMap::new(&constrained), 8, element_dofs, &extra);
-        let mut cpos = vec![NONE; n_el * np * 81];
-        for e in 0..n_el {
-            let d = asm.element_dofs(e);
-            for k in 0..np {
-                let idx: [usize; 9] =
-                    std::array::from_fn(|i| if i < 8 { d[i] } else { pulley_dof[k] });
-                for j in 0..9 {
-                    for i in 0..9 {
-                        if let (Some(a), Some(b)) =
-                            (asm.dofs.free_index(idx[i]), asm.dofs.free_index(idx[j]))
-                        {
-                            cpos[(e * np + k) * 81 + j * 9 + i] =
-                                asm.pattern.position(a, b).expect("in pattern") as u32;
-                        }
-                    }
-                }
-            }
-        }
+        let asm = Assembly::new(
+            DofMap::new(&constrained),
+            &[(8, connectivity.as_flattened())],
+            &extra,
+        );
+        let blocks: Vec<[usize; 9]> = connectivity
+            .iter()
+            .flat_map(|d| {
+                pulley_dof
+                    .iter()
+                    .map(|&pd| std::array::from_fn(|i| if i < 8 { d[i] } else { pd }))
+            })
+            .collect();
+        let contact_blocks = Connectivity::new(blocks, &asm);
+        let set = ElementSet::new(vec![element], connectivity, &asm);
 
         // Initial coordinates: nodes on the path; on the arcs moved inwards by the predicted
         // penetration p/k_n with p = T/ρ.
@@ -501,8 +455,7 @@ impl BeltDrive {
             .collect();
         let n_cp = spec.points_per_element.max(1);
         let mut me = Self {
-            mass_e: element.mass(),
-            element,
+            set,
             n_el,
             n_nodes,
             closed,
@@ -511,7 +464,7 @@ impl BeltDrive {
             cp: vec![],
             cp_w: l_ref / n_cp as f64,
             hist: vec![PointHistory::default(); n_el * n_cp * np],
-            cpos,
+            contact_blocks,
             gravity_full: vec![0.0; n_full],
             end_loads: [Vector2::zeros(); 2],
             span_mid,
@@ -637,19 +590,34 @@ impl BeltDrive {
 
     /// Rebuilds the element, mass, gravity and contact points for reference length `l`.
     fn set_reference_length(&mut self, l: f64) -> Result<(), String> {
-        self.element = Element::new(self.spec.element, &self.spec.section, l)?;
-        self.mass_e = self.element.mass();
+        self.set.set_elements(vec![belt_element(
+            self.spec.element,
+            &self.spec.section,
+            l,
+        )?]);
         let n_cp = self.spec.points_per_element.max(1);
         self.cp = (0..n_cp)
-            .map(|i| self.element.centerline((i as f64 + 0.5) / n_cp as f64 * l))
+            .map(|i| {
+                self.element()
+                    .centerline((i as f64 + 0.5) / n_cp as f64 * l)
+            })
             .collect();
         self.cp_w = l / n_cp as f64;
         self.gravity_full.iter_mut().for_each(|x| *x = 0.0);
-        let g = self.element.gravity(self.spec.gravity);
-        for e in 0..self.n_el {
-            self.asm.add_vector(e, &g, 1.0, &mut self.gravity_full);
-        }
+        let g = self.spec.gravity;
+        self.set.add_gravity(
+            &self.q,
+            None,
+            &Vector3::new(g.x, g.y, 0.0),
+            1.0,
+            &mut self.gravity_full,
+        );
         Ok(())
+    }
+
+    /// The belt element (all elements share it).
+    fn element(&self) -> &dyn BeltElement {
+        &**self.set.element(0)
     }
 
     /// Static pre-load: solve, compare the mean span tension with `pretension`, correct the
@@ -676,7 +644,7 @@ impl BeltDrive {
                 break;
             }
             let ea = self.spec.section.ea;
-            let l = self.element.length() * (1.0 + mean / ea) / (1.0 + pretension / ea);
+            let l = self.element().length() * (1.0 + mean / ea) / (1.0 + pretension / ea);
             self.set_reference_length(l)?;
         }
         Ok(())
@@ -699,7 +667,7 @@ impl BeltDrive {
 
     /// Reference length of one element [m].
     pub fn element_length(&self) -> f64 {
-        self.element.length()
+        self.element().length()
     }
 
     /// Full coordinates of the committed state (belt nodes, then pulley angles).
@@ -729,8 +697,8 @@ impl BeltDrive {
 
     /// Axial force in the middle of element `e` [N] (committed state).
     pub fn element_tension(&self, e: usize) -> f64 {
-        let qe: ElemVec = self.asm.gather(e, &self.q);
-        self.element.axial_force_mid(&qe)
+        let qe = self.set.gather(e, &self.q);
+        self.element().axial_force_mid(&qe, self.spec.section.ea)
     }
 
     /// Pitch radius of pulley `k` [m].
@@ -764,7 +732,7 @@ impl BeltDrive {
 
     #[inline]
     fn point_state(&self, e: usize, i: usize, k: usize, q: &[f64], v: &[f64]) -> PointState {
-        let d = self.asm.element_dofs(e);
+        let d = self.set.element_dofs(e);
         let s = &self.cp[i];
         let (mut r, mut vel) = (Vector2::zeros(), Vector2::zeros());
         for a in 0..4 {
@@ -785,7 +753,7 @@ impl BeltDrive {
     /// Whether element `e` can touch pulley `k` (node distances minus half the chord).
     #[inline]
     fn near(&self, e: usize, k: usize, q: &[f64]) -> bool {
-        let d = self.asm.element_dofs(e);
+        let d = self.set.element_dofs(e);
         let ri = Vector2::new(q[d[0]], q[d[1]]);
         let rj = Vector2::new(q[d[4]], q[d[5]]);
         let c = &self.circles[k];
@@ -809,23 +777,14 @@ impl BeltDrive {
         if let Some((_, vals)) = jac.as_mut() {
             vals.iter_mut().for_each(|x| *x = 0.0);
         }
-        let (mut fe, mut ke, mut ce) = (ElemVec::zeros(), ElemMat::zeros(), ElemMat::zeros());
-        for e in 0..self.n_el {
-            let qe: ElemVec = self.asm.gather(e, &self.qw);
-            let ve: ElemVec = self.asm.gather(e, &self.vw);
-            let ae: ElemVec = self.asm.gather(e, &self.aw);
-            match jac.as_mut() {
-                Some((c, vals)) => {
-                    self.element
-                        .force_tangent(&qe, &ve, &mut fe, &mut ke, &mut ce);
-                    let m = c.mass * self.mass_e + c.stiffness * ke + c.damping * ce;
-                    self.asm.add_matrix(e, &m, 1.0, vals);
-                }
-                None => self.element.force(&qe, &ve, &mut fe),
-            }
-            fe += self.mass_e * ae;
-            self.asm.add_vector(e, &fe, 1.0, &mut f);
-        }
+        let x = Eval {
+            q: &self.qw,
+            v: &self.vw,
+            a: &self.aw,
+            g: Vector3::zeros(),
+        };
+        self.set
+            .add_residual(&x, None, &mut f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
         // pulleys
         for (k, p) in self.spec.pulleys.iter().enumerate() {
             if let PulleyKind::Free { inertia, damping } = p.kind {
@@ -855,7 +814,7 @@ impl BeltDrive {
                 }
                 let mut any = false;
                 blk.fill(0.0);
-                let d: [usize; 8] = std::array::from_fn(|i| self.asm.element_dofs(e)[i]);
+                let d = *self.set.element_dofs(e);
                 for i in 0..n_cp {
                     let st = self.point_state(e, i, k, &self.qw, &self.vw);
                     let h = &self.hist[(e * n_cp + i) * np + k];
@@ -897,12 +856,7 @@ impl BeltDrive {
                 }
                 if any {
                     if let Some((_, vals)) = jac.as_mut() {
-                        let pos = &self.cpos[(e * np + k) * 81..(e * np + k + 1) * 81];
-                        for (p, v) in pos.iter().zip(blk.as_slice()) {
-                            if *p != NONE {
-                                vals[*p as usize] += v;
-                            }
-                        }
+                        self.contact_blocks.add_matrix(e * np + k, &blk, 1.0, vals);
                     }
                 }
             }
@@ -919,12 +873,7 @@ impl BeltDrive {
             }
         }
         self.fw = f;
-        if let Some((_, vals)) = jac.as_ref() {
-            if vals.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::NonFinite);
-            }
-        }
-        Ok(())
+        check_finite(&[], jac.as_ref().map(|(_, vals)| &**vals))
     }
 
     /// Commits the full state `self.q`, `self.v` at time `t`: contact histories, pulley
@@ -992,7 +941,7 @@ impl BeltDrive {
             .map(|m| {
                 let mut best = (f64::INFINITY, 0);
                 for e in 0..self.n_el {
-                    let d = self.asm.element_dofs(e);
+                    let d = self.set.element_dofs(e);
                     let mid = 0.5
                         * Vector2::new(self.q[d[0]] + self.q[d[4]], self.q[d[1]] + self.q[d[5]]);
                     let dist = (mid - m).norm();
@@ -1026,11 +975,9 @@ impl BeltDrive {
                 p_in += self.end_loads[0].dot(&Vector2::new(self.v[0], self.v[1]))
                     + self.end_loads[1].dot(&Vector2::new(self.v[last], self.v[last + 1]));
             }
-            for e in 0..self.n_el {
-                let qe: ElemVec = self.asm.gather(e, &self.q);
-                let ve: ElemVec = self.asm.gather(e, &self.v);
-                p_diss += self.element.damping_power(&qe, &ve);
-            }
+            self.set.for_each_state(&self.q, &self.v, None, |_, el, s| {
+                p_diss += el.damping_power_at(s);
+            });
             let h = t - self.t;
             if !initial && h > 0.0 {
                 self.energy.input_work += 0.5 * h * (self.energy.p_in + p_in);
@@ -1046,10 +993,9 @@ impl BeltDrive {
     /// Kinetic energy of belt and free pulleys [J] (committed state).
     pub fn kinetic_energy(&self) -> f64 {
         let mut t = 0.0;
-        for e in 0..self.n_el {
-            let ve: ElemVec = self.asm.gather(e, &self.v);
-            t += 0.5 * ve.dot(&(self.mass_e * ve));
-        }
+        self.set.for_each_state(&self.q, &self.v, None, |_, el, s| {
+            t += el.kinetic_energy_at(s);
+        });
         for (k, p) in self.spec.pulleys.iter().enumerate() {
             if let PulleyKind::Free { inertia, .. } = p.kind {
                 t += 0.5 * inertia * self.v[self.pulley_dof[k]].powi(2);
@@ -1061,10 +1007,9 @@ impl BeltDrive {
     /// Strain energy of the belt plus the penalty energy of the contact [J].
     pub fn strain_energy(&self) -> f64 {
         let mut u = self.energy.contact_energy;
-        for e in 0..self.n_el {
-            let qe: ElemVec = self.asm.gather(e, &self.q);
-            u += self.element.strain_energy(&qe);
-        }
+        self.set.for_each_state(&self.q, &self.v, None, |_, el, s| {
+            u += el.strain_energy_at(s);
+        });
         u
     }
 
@@ -1107,9 +1052,9 @@ impl BeltDrive {
     pub fn belt_point(&self, u: f64) -> Vector2<f64> {
         let s = u.rem_euclid(1.0) * self.n_el as f64;
         let e = (s.floor() as usize).min(self.n_el - 1);
-        let x = (s - e as f64) * self.element.length();
-        let w = self.element.centerline(x);
-        let qe: ElemVec = self.asm.gather(e, &self.q);
+        let x = (s - e as f64) * self.element().length();
+        let w = self.element().centerline(x);
+        let qe = self.set.gather(e, &self.q);
         let mut r = Vector2::zeros();
         for a in 0..4 {
             r.x += w[a] * qe[2 * a];
@@ -1169,10 +1114,7 @@ impl BeltDrive {
 
     fn finish(&self, r: &mut [f64]) -> Result<(), ModelError> {
         self.asm.dofs.restrict(&self.fw, r);
-        if r.iter().any(|x| !x.is_finite()) {
-            return Err(ModelError::NonFinite);
-        }
-        Ok(())
+        check_finite(r, None)
     }
 }
 

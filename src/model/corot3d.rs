@@ -21,12 +21,12 @@
 //! element tangents with respect to body spins times `T(θ)` on the rotation columns.
 
 use super::system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
-use crate::assembly::{Assembly, DofMap};
+use crate::assembly::{Assembly, DofMap, ElementSet, Eval, check_finite};
 use crate::elements::corotational3d::{
-    BeamSection, Corot3d, ELEMENT_DOFS, MassModel, Mat12, NODE_DOFS, Nodes, Rates, Theory, Vec12,
-    reference_frame,
+    BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Theory, reference_frame,
 };
-use crate::elements::rotation::{exp_so3, skew, tangent_body};
+use crate::elements::node_frames::NodeFrames;
+use crate::elements::rotation::skew;
 use crate::integrators::DynState;
 use crate::linalg::CscPattern;
 use crate::scene::corot3d::names::*;
@@ -183,8 +183,9 @@ struct NodeProbe {
 #[derive(Clone, Debug)]
 pub struct Corot3dModel {
     length: f64,
-    elements: Vec<Corot3d>,
-    r_ref: Vec<UnitQuaternion<f64>>,
+    set: ElementSet<Corot3d, ELEMENT_DOFS>,
+    /// Stored orientations of the nodes (incremental rotation vectors among the coordinates).
+    frames: NodeFrames,
     asm: Assembly,
     gravity: Vector3<f64>,
     loads: Vec<NodeLoad>,
@@ -199,8 +200,6 @@ pub struct Corot3dModel {
     aw: Vec<f64>,
     fw: Vec<f64>,
     qmid: Vec<f64>,
-    rot: Vec<Matrix3<f64>>,
-    tan: Vec<Matrix3<f64>>,
 }
 
 impl Corot3dModel {
@@ -289,16 +288,18 @@ impl Corot3dModel {
         if dofs.n_free() == 0 {
             return Err("the supports fix every coordinate: nothing left to simulate".into());
         }
-        let element_dofs: Vec<usize> = (0..n_el)
-            .flat_map(|e| e * NODE_DOFS..e * NODE_DOFS + ELEMENT_DOFS)
+        let connectivity: Vec<[usize; ELEMENT_DOFS]> = (0..n_el)
+            .map(|e| std::array::from_fn(|i| e * NODE_DOFS + i))
             .collect();
-        let asm = Assembly::new(dofs, ELEMENT_DOFS, element_dofs, &[]);
+        let asm = Assembly::new(dofs, &[(ELEMENT_DOFS, connectivity.as_flattened())], &[]);
         let elements: Vec<Corot3d> = (0..n_el)
             .map(|e| {
                 let l0 = (m.x[e + 1] - m.x[e]).norm();
                 Corot3d::new(l0, m.frames[e], &section, theory, mass)
             })
             .collect();
+        let frames = NodeFrames::new((0..n_nodes).map(|k| k * NODE_DOFS + 3).collect());
+        let set = ElementSet::new(elements, connectivity, &asm).with_frames(&frames);
         let mut loads = Vec::with_capacity(scene.loads.len());
         for (i, l) in scene.loads.iter().enumerate() {
             loads.push(NodeLoad {
@@ -330,8 +331,8 @@ impl Corot3dModel {
         let n_free = asm.dofs.n_free();
         Ok(Self {
             length,
-            elements,
-            r_ref: vec![UnitQuaternion::identity(); n_nodes],
+            set,
+            frames,
             asm,
             gravity,
             loads,
@@ -344,8 +345,6 @@ impl Corot3dModel {
             aw: vec![0.0; n_full],
             fw: vec![0.0; n_full],
             qmid: vec![0.0; n_free],
-            rot: vec![Matrix3::identity(); n_nodes],
-            tan: vec![Matrix3::identity(); n_nodes],
         })
     }
 
@@ -356,12 +355,12 @@ impl Corot3dModel {
 
     /// Number of elements.
     pub fn n_elements(&self) -> usize {
-        self.elements.len()
+        self.set.len()
     }
 
     /// Number of nodes.
     pub fn n_nodes(&self) -> usize {
-        self.r_ref.len()
+        self.frames.len()
     }
 
     /// Position of node `k` in the committed state [m].
@@ -371,71 +370,43 @@ impl Corot3dModel {
 
     /// Orientation of node `k` in the committed state (rotation from the reference).
     pub fn node_rotation(&self, k: usize) -> Matrix3<f64> {
-        let th = Vector3::from_column_slice(&self.q[k * NODE_DOFS + 3..k * NODE_DOFS + 6]);
-        self.r_ref[k].to_rotation_matrix().into_inner() * exp_so3(&th)
+        self.frames.rotation(k, &self.q)
     }
 
     /// Body angular velocity of node `k` [rad/s].
     pub fn node_angular_velocity(&self, k: usize) -> Vector3<f64> {
-        Vector3::from_column_slice(&self.v[k * NODE_DOFS + 3..k * NODE_DOFS + 6])
-    }
-
-    fn element_state(&self, e: usize, q: &[f64], v: &[f64]) -> (Nodes, Rates) {
-        let nodes = Nodes {
-            x: [
-                Vector3::from_column_slice(&q[e * NODE_DOFS..e * NODE_DOFS + 3]),
-                Vector3::from_column_slice(&q[(e + 1) * NODE_DOFS..(e + 1) * NODE_DOFS + 3]),
-            ],
-            r: [self.node_rotation_of(e, q), self.node_rotation_of(e + 1, q)],
-        };
-        let vv: Vec12 = self.asm.gather(e, v);
-        (nodes, Rates::from_vec(&vv))
-    }
-
-    fn node_rotation_of(&self, k: usize, q: &[f64]) -> Matrix3<f64> {
-        let th = Vector3::from_column_slice(&q[k * NODE_DOFS + 3..k * NODE_DOFS + 6]);
-        self.r_ref[k].to_rotation_matrix().into_inner() * exp_so3(&th)
+        self.frames.angular_velocity(k, &self.v)
     }
 
     /// Kinetic energy [J] of the committed state.
     pub fn kinetic_energy(&self) -> f64 {
-        (0..self.elements.len())
-            .map(|e| {
-                let (n, v) = self.element_state(e, &self.q, &self.v);
-                self.elements[e].kinetic_energy(&n, &v)
-            })
-            .sum()
+        self.set
+            .kinetic_energy(&self.q, &self.v, Some(&self.frames))
     }
 
     /// Gravity potential [J] of the committed state (relative to the origin).
     pub fn potential_energy(&self) -> f64 {
-        (0..self.elements.len())
-            .map(|e| {
-                let (n, _) = self.element_state(e, &self.q, &self.v);
-                self.elements[e].gravity_potential(&n, &self.gravity)
-            })
-            .sum()
+        let mut v = 0.0;
+        self.set
+            .for_each_state(&self.q, &self.v, Some(&self.frames), |_, el, s| {
+                v += el.gravity_potential(&Corot3d::nodes_of(s), &self.gravity);
+            });
+        v
     }
 
     /// Strain energy [J] of the committed state.
     pub fn strain_energy(&self) -> f64 {
-        (0..self.elements.len())
-            .map(|e| {
-                let (n, _) = self.element_state(e, &self.q, &self.v);
-                self.elements[e].strain_energy(&n)
-            })
-            .sum()
+        self.set.strain_energy(&self.q, Some(&self.frames))
     }
 
     /// Linear momentum `∂T/∂ẋ` summed over the nodes [kg m/s] of the committed state.
     pub fn linear_momentum(&self) -> Vector3<f64> {
         let mut p = Vector3::zeros();
-        for e in 0..self.elements.len() {
-            let (n, _) = self.element_state(e, &self.q, &self.v);
-            let vv: Vec12 = self.asm.gather(e, &self.v);
-            let pe = self.elements[e].mass_matrix(&n) * vv;
-            p += Vector3::new(pe[0] + pe[6], pe[1] + pe[7], pe[2] + pe[8]);
-        }
+        self.set
+            .for_each_state(&self.q, &self.v, Some(&self.frames), |_, el, s| {
+                let pe = el.mass_matrix(&Corot3d::nodes_of(s)) * s.v;
+                p += Vector3::new(pe[0] + pe[6], pe[1] + pe[7], pe[2] + pe[8]);
+            });
         p
     }
 
@@ -443,16 +414,16 @@ impl Corot3dModel {
     /// `Σ_i x_i × ∂T/∂ẋ_i + R_i ∂T/∂Ω_i` (the Noether charge of rotation invariance).
     pub fn angular_momentum(&self) -> Vector3<f64> {
         let mut h = Vector3::zeros();
-        for e in 0..self.elements.len() {
-            let (n, _) = self.element_state(e, &self.q, &self.v);
-            let vv: Vec12 = self.asm.gather(e, &self.v);
-            let pe = self.elements[e].mass_matrix(&n) * vv;
-            for i in 0..2 {
-                let px = Vector3::new(pe[6 * i], pe[6 * i + 1], pe[6 * i + 2]);
-                let pw = Vector3::new(pe[6 * i + 3], pe[6 * i + 4], pe[6 * i + 5]);
-                h += n.x[i].cross(&px) + n.r[i] * pw;
-            }
-        }
+        self.set
+            .for_each_state(&self.q, &self.v, Some(&self.frames), |_, el, s| {
+                let n = Corot3d::nodes_of(s);
+                let pe = el.mass_matrix(&n) * s.v;
+                for i in 0..2 {
+                    let px = Vector3::new(pe[6 * i], pe[6 * i + 1], pe[6 * i + 2]);
+                    let pw = Vector3::new(pe[6 * i + 3], pe[6 * i + 4], pe[6 * i + 5]);
+                    h += n.x[i].cross(&px) + n.r[i] * pw;
+                }
+            });
         h
     }
 
@@ -507,20 +478,6 @@ impl Corot3dModel {
         }
     }
 
-    /// Absorbs the incremental rotations of a full coordinate vector into the stored nodal
-    /// orientations and zeroes them.
-    fn absorb_rotations(&mut self, full: &mut [f64]) {
-        for (k, r) in self.r_ref.iter_mut().enumerate() {
-            let th = Vector3::from_column_slice(&full[k * NODE_DOFS + 3..k * NODE_DOFS + 6]);
-            if th != Vector3::zeros() {
-                let mut nq = *r * UnitQuaternion::from_scaled_axis(th);
-                nq.renormalize();
-                *r = nq;
-                full[k * NODE_DOFS + 3..k * NODE_DOFS + 6].fill(0.0);
-            }
-        }
-    }
-
     /// Residual and iteration matrix of the configuration in `self.qw`, rates in `self.vw`,
     /// `self.aw`; the stiffness part of the iteration matrix is scaled by `k_scale`.
     fn assemble(
@@ -530,61 +487,30 @@ impl Corot3dModel {
         r: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        for k in 0..self.r_ref.len() {
-            let th = Vector3::from_column_slice(&self.qw[k * NODE_DOFS + 3..k * NODE_DOFS + 6]);
-            self.rot[k] = self.r_ref[k].to_rotation_matrix().into_inner() * exp_so3(&th);
-            self.tan[k] = tangent_body(&th);
-        }
         let mut fw = std::mem::take(&mut self.fw);
-        fw.iter_mut().for_each(|x| *x = 0.0);
+        fw.fill(0.0);
         if let Some((_, vals)) = jac.as_mut() {
-            vals.iter_mut().for_each(|x| *x = 0.0);
+            vals.fill(0.0);
         }
-        let g = self.gravity * lambda;
-        for e in 0..self.elements.len() {
-            let el = &self.elements[e];
-            let nodes = Nodes {
-                x: [
-                    Vector3::from_column_slice(&self.qw[e * NODE_DOFS..e * NODE_DOFS + 3]),
-                    Vector3::from_column_slice(
-                        &self.qw[(e + 1) * NODE_DOFS..(e + 1) * NODE_DOFS + 3],
-                    ),
-                ],
-                r: [self.rot[e], self.rot[e + 1]],
+        let x = Eval {
+            q: &self.qw,
+            v: &self.vw,
+            a: &self.aw,
+            g: self.gravity * lambda,
+        };
+        let elem_jac = jac.as_mut().map(|(c, vals)| {
+            let c = JacobianCoeffs {
+                stiffness: c.stiffness * k_scale,
+                ..*c
             };
-            let v = Rates::from_vec(&self.asm.gather(e, &self.vw));
-            let a = Rates::from_vec(&self.asm.gather(e, &self.aw));
-            let mut f = Vec12::zeros();
-            match jac.as_mut() {
-                Some((c, vals)) => {
-                    let mut k = Mat12::zeros();
-                    let mut mc = Mat12::zeros();
-                    el.internal_force_tangent(&nodes, &mut f, &mut k);
-                    el.inertia_force(
-                        &nodes,
-                        &v,
-                        &a,
-                        &g,
-                        &mut f,
-                        Some((c.mass, c.damping, &mut mc, &mut k)),
-                    );
-                    for (slot, node) in [(0, e), (1, e + 1)] {
-                        let cols = k.fixed_view::<12, 3>(0, 6 * slot + 3) * self.tan[node];
-                        k.fixed_view_mut::<12, 3>(0, 6 * slot + 3).copy_from(&cols);
-                    }
-                    mc += k * (c.stiffness * k_scale);
-                    self.asm.add_matrix(e, &mc, 1.0, vals);
-                }
-                None => {
-                    el.internal_force(&nodes, &mut f);
-                    el.inertia_force(&nodes, &v, &a, &g, &mut f, None);
-                }
-            }
-            self.asm.add_vector(e, &f, 1.0, &mut fw);
-        }
+            (c, &mut **vals)
+        });
+        self.set
+            .add_residual(&x, Some(&mut self.frames), &mut fw, elem_jac);
+        let frames = self.frames.current();
         for l in &self.loads {
             let b = l.node * NODE_DOFS;
-            let rot = &self.rot[l.node];
+            let rot = &frames[l.node].rot;
             let force = Vector3::new(l.values[0], l.values[1], l.values[2]) * lambda;
             let moment = Vector3::new(l.values[3], l.values[4], l.values[5]) * lambda;
             // Residual −f_ext; `blk` = ∂(−f_ext)/∂W (body spin) for the rows x or θ.
@@ -603,7 +529,7 @@ impl Corot3dModel {
                 if force != Vector3::zeros() && l.follower
                     || moment != Vector3::zeros() && !l.follower
                 {
-                    let d = blk * self.tan[l.node] * (c.stiffness * k_scale);
+                    let d = blk * frames[l.node].tangent * (c.stiffness * k_scale);
                     for i in 0..3 {
                         for j in 0..3 {
                             self.asm.add_entry(b + rows + i, b + 3 + j, d[(i, j)], vals);
@@ -614,15 +540,7 @@ impl Corot3dModel {
         }
         self.asm.dofs.restrict(&fw, r);
         self.fw = fw;
-        if r.iter().any(|x| !x.is_finite()) {
-            return Err(ModelError::NonFinite);
-        }
-        if let Some((_, vals)) = jac {
-            if vals.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::NonFinite);
-            }
-        }
-        Ok(())
+        check_finite(r, jac.as_ref().map(|(_, vals)| &**vals))
     }
 
     /// The element mass matrices assembled into a dense matrix of the free coordinates at the
@@ -685,7 +603,7 @@ impl Model for Corot3dModel {
     fn accept(&mut self, state: &mut DynState) {
         let mut q = std::mem::take(&mut self.q);
         self.asm.dofs.expand(&state.q, &mut q);
-        self.absorb_rotations(&mut q);
+        self.frames.absorb(&mut q);
         self.asm.dofs.restrict(&q, &mut state.q);
         self.q = q;
         self.asm.dofs.expand(&state.v, &mut self.v);
@@ -700,15 +618,7 @@ impl Model for Corot3dModel {
     fn save(&self, w: &mut StateWriter) -> Result<(), String> {
         w.f64s(&self.q);
         w.f64s(&self.v);
-        let quats: Vec<f64> = self
-            .r_ref
-            .iter()
-            .flat_map(|r| {
-                let c = r.as_ref().coords;
-                [c[0], c[1], c[2], c[3]]
-            })
-            .collect();
-        w.f64s(&quats);
+        self.frames.save(w);
         for l in &self.loads {
             w.f64s(&l.values);
         }
@@ -719,14 +629,7 @@ impl Model for Corot3dModel {
         let e = |e: crate::snapshot::SnapshotError| e.to_string();
         r.f64s_into(&mut self.q).map_err(e)?;
         r.f64s_into(&mut self.v).map_err(e)?;
-        let quats = r.f64s(Some(4 * self.r_ref.len())).map_err(e)?;
-        for (k, c) in quats.chunks(4).enumerate() {
-            let q = nalgebra::Quaternion::new(c[3], c[0], c[1], c[2]);
-            if !(q.norm() - 1.0).abs().is_finite() || (q.norm() - 1.0).abs() > 1e-9 {
-                return Err("a stored orientation is not a unit quaternion".into());
-            }
-            self.r_ref[k] = UnitQuaternion::new_unchecked(q);
-        }
+        self.frames.restore(r)?;
         for l in self.loads.iter_mut() {
             r.f64s_into(&mut l.values).map_err(e)?;
         }
@@ -793,7 +696,7 @@ impl MechanicalSystem for Corot3dModel {
     fn rebase(&mut self, q: &mut [f64]) {
         let mut full = std::mem::take(&mut self.q);
         self.asm.dofs.expand(q, &mut full);
-        self.absorb_rotations(&mut full);
+        self.frames.absorb(&mut full);
         self.asm.dofs.restrict(&full, q);
         self.q = full;
     }
