@@ -274,6 +274,7 @@ pub fn evaluate(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::elements::finite_difference as fd;
 
     fn law() -> ContactLaw {
         ContactLaw {
@@ -303,54 +304,34 @@ mod tests {
             let r = evaluate(&law, &cir, w, s, &h).unwrap();
             nalgebra::Vector3::new(r.force.x, r.force.y, r.torque)
         };
-        let eps = 1e-9;
         let scale = out(&s).norm();
-        for j in 0..3 {
-            let (mut sp, mut sm) = (s, s);
-            match j {
-                0 => {
-                    sp.r.x += eps;
-                    sm.r.x -= eps
-                }
-                1 => {
-                    sp.r.y += eps;
-                    sm.r.y -= eps
-                }
-                _ => {
-                    sp.theta += eps;
-                    sm.theta -= eps
-                }
+        // coordinates (r_x, r_y, θ) and rates (v_x, v_y, ω) as vectors
+        let with = |x: &[f64], rates: bool| {
+            let mut p = s;
+            if rates {
+                (p.v.x, p.v.y, p.omega) = (x[0], x[1], x[2]);
+            } else {
+                (p.r.x, p.r.y, p.theta) = (x[0], x[1], x[2]);
             }
-            let fd = (out(&sp) - out(&sm)) / (2.0 * eps);
-            let err = (fd - res.k.column(j)).norm();
-            assert!(
-                err <= 1e-6 * res.k.norm(),
-                "k column {j}: {fd} vs {}",
-                res.k.column(j)
-            );
-            let (mut sp, mut sm) = (s, s);
-            match j {
-                0 => {
-                    sp.v.x += eps;
-                    sm.v.x -= eps
-                }
-                1 => {
-                    sp.v.y += eps;
-                    sm.v.y -= eps
-                }
-                _ => {
-                    sp.omega += eps;
-                    sm.omega -= eps
-                }
-            }
-            let fd = (out(&sp) - out(&sm)) / (2.0 * eps);
-            let err = (fd - res.c.column(j)).norm();
-            assert!(
-                err <= 1e-6 * res.c.norm().max(scale),
-                "c column {j}: {fd} vs {}",
-                res.c.column(j)
-            );
-        }
+            p
+        };
+        let dm =
+            |m: &nalgebra::Matrix3<f64>| nalgebra::DMatrix::from_column_slice(3, 3, m.as_slice());
+        fd::assert_jacobian(
+            "k",
+            &dm(&res.k),
+            &[s.r.x, s.r.y, s.theta],
+            1e-9,
+            2e-6,
+            |x, o| o.copy_from_slice(out(&with(x, false)).as_slice()),
+        );
+        let cfd = fd::jacobian(
+            &[s.v.x, s.v.y, s.omega],
+            3,
+            |_| 1e-9,
+            |x, o| o.copy_from_slice(out(&with(x, true)).as_slice()),
+        );
+        fd::assert_close("c", &dm(&res.c), &cfd, 2e-6, scale);
     }
 
     fn at(angle: f64, rho: f64) -> Vector2<f64> {

@@ -5,7 +5,12 @@ use crate::element_conformance;
 use crate::elements::Element;
 use crate::elements::ancf_cable2d::*;
 use crate::elements::conformance::{Case, Config, rigid_motion};
+use crate::elements::finite_difference as fd;
 use nalgebra::{Matrix3, Rotation2, Vector2, Vector3};
+
+fn dmat(r: usize, c: usize, x: &[f64]) -> nalgebra::DMatrix<f64> {
+    nalgebra::DMatrix::from_column_slice(r, c, x)
+}
 
 const RULES: [CableRule; 3] = [CableRule::Full, CableRule::Reduced, CableRule::Mixed];
 
@@ -201,18 +206,18 @@ fn force_matches_energy_gradient() {
             let q = deformed();
             let mut f = ElemVec::zeros();
             el.internal_force(&q, &ElemVec::zeros(), &mut f);
-            let h = 1e-6;
-            for i in 0..8 {
-                let (mut qp, mut qm) = (q, q);
-                qp[i] += h;
-                qm[i] -= h;
-                let fd = (el.strain_energy(&qp) - el.strain_energy(&qm)) / (2.0 * h);
-                assert!(
-                    (fd - f[i]).abs() <= 1e-6 * f.norm(),
-                    "{rule:?} dof {i}: {fd} vs {}",
-                    f[i]
-                );
-            }
+            let g = fd::gradient(
+                q.as_slice(),
+                |_| 1e-6,
+                |x| el.strain_energy(&ElemVec::from_column_slice(x)),
+            );
+            fd::assert_close(
+                &format!("{rule:?}: force vs energy gradient"),
+                &dmat(8, 1, f.as_slice()),
+                &dmat(8, 1, &g),
+                1e-6,
+                0.0,
+            );
         }
     }
 }
@@ -231,28 +236,29 @@ fn tangent_and_damping_match_finite_differences() {
             let mut f2 = ElemVec::zeros();
             el.internal_force(&q, &qd, &mut f2);
             assert!((f - f2).norm() <= 1e-12 * f.norm());
-            let h = 1e-7;
-            let (mut kfd, mut cfd) = (ElemMat::zeros(), ElemMat::zeros());
-            for j in 0..8 {
-                let (mut qp, mut qm) = (q, q);
-                qp[j] += h;
-                qm[j] -= h;
-                let (mut fp, mut fm) = (ElemVec::zeros(), ElemVec::zeros());
-                el.internal_force(&qp, &qd, &mut fp);
-                el.internal_force(&qm, &qd, &mut fm);
-                kfd.set_column(j, &((fp - fm) / (2.0 * h)));
-                let (mut vp, mut vm) = (qd, qd);
-                vp[j] += h;
-                vm[j] -= h;
-                el.internal_force(&q, &vp, &mut fp);
-                el.internal_force(&q, &vm, &mut fm);
-                cfd.set_column(j, &((fp - fm) / (2.0 * h)));
-            }
-            let err = (kfd - k).norm() / k.norm();
-            assert!(err < 1e-6, "{rule:?}: tangent error {err}");
+            let force = |q: &[f64], v: &[f64], out: &mut [f64]| {
+                let mut fx = ElemVec::zeros();
+                let (q, v) = (ElemVec::from_column_slice(q), ElemVec::from_column_slice(v));
+                el.internal_force(&q, &v, &mut fx);
+                out.copy_from_slice(fx.as_slice());
+            };
+            fd::assert_jacobian(
+                &format!("{rule:?}: tangent"),
+                &dmat(8, 8, k.as_slice()),
+                q.as_slice(),
+                1e-7,
+                1e-6,
+                |x, out| force(x, qd.as_slice(), out),
+            );
             if sec.damping_axial > 0.0 {
-                let err = (cfd - c).norm() / c.norm();
-                assert!(err < 1e-6, "{rule:?}: damping matrix error {err}");
+                fd::assert_jacobian(
+                    &format!("{rule:?}: damping matrix"),
+                    &dmat(8, 8, c.as_slice()),
+                    qd.as_slice(),
+                    1e-7,
+                    1e-6,
+                    |x, out| force(q.as_slice(), x, out),
+                );
             } else {
                 assert_eq!(c, ElemMat::zeros());
                 // without damping the tangent is symmetric (a Hessian)

@@ -5,9 +5,18 @@ use crate::element_conformance;
 use crate::elements::Element;
 use crate::elements::ancf_shear2d::*;
 use crate::elements::conformance::{Case, Config, rigid_motion};
+use crate::elements::finite_difference as fd;
 use crate::elements::material::PlaneElasticity;
 use crate::elements::material::StrainEnergy;
 use nalgebra::{Matrix3, Rotation2, Vector2, Vector3};
+
+fn column(f: &ElemVec) -> nalgebra::DMatrix<f64> {
+    nalgebra::DMatrix::from_column_slice(8, 1, f.as_slice())
+}
+
+fn square(k: &ElemMat) -> nalgebra::DMatrix<f64> {
+    nalgebra::DMatrix::from_column_slice(8, 8, k.as_slice())
+}
 
 const E: f64 = 2.07e11;
 const NU: f64 = 0.3;
@@ -157,20 +166,18 @@ fn force_matches_energy_gradient() {
             let e = deformed(&e0);
             let mut f = ElemVec::zeros();
             el.internal_force(&e, &law, &mut f);
-            let hstep = 1e-6;
-            for i in 0..8 {
-                let mut ep = e;
-                let mut em = e;
-                ep[i] += hstep;
-                em[i] -= hstep;
-                let fd =
-                    (el.strain_energy(&ep, &law) - el.strain_energy(&em, &law)) / (2.0 * hstep);
-                assert!(
-                    (fd - f[i]).abs() <= 1e-6 * f.norm(),
-                    "rule {rule:?} dof {i}: {fd} vs {}",
-                    f[i]
-                );
-            }
+            let fd = fd::gradient(
+                e.as_slice(),
+                |_| 1e-6,
+                |x| el.strain_energy(&ElemVec::from_column_slice(x), &law),
+            );
+            fd::assert_close(
+                &format!("rule {rule:?}: force vs energy gradient"),
+                &column(&f),
+                &column(&ElemVec::from_column_slice(&fd)),
+                1e-6,
+                0.0,
+            );
         }
     }
 }
@@ -185,19 +192,18 @@ fn tangent_matches_finite_differences() {
             let mut f = ElemVec::zeros();
             let mut k = ElemMat::zeros();
             el.internal_force_tangent(&e, &law, &mut f, &mut k);
-            let hstep = 1e-7;
-            let mut fd = ElemMat::zeros();
-            for j in 0..8 {
-                let (mut ep, mut em) = (e, e);
-                ep[j] += hstep;
-                em[j] -= hstep;
-                let (mut fp, mut fm) = (ElemVec::zeros(), ElemVec::zeros());
-                el.internal_force(&ep, &law, &mut fp);
-                el.internal_force(&em, &law, &mut fm);
-                fd.set_column(j, &((fp - fm) / (2.0 * hstep)));
-            }
-            let err = (fd - k).norm() / k.norm();
-            assert!(err < 1e-7, "rule {rule:?}: relative tangent error {err}");
+            fd::assert_jacobian(
+                &format!("rule {rule:?}: tangent"),
+                &square(&k),
+                e.as_slice(),
+                1e-7,
+                1e-7,
+                |x, out| {
+                    let mut fx = ElemVec::zeros();
+                    el.internal_force(&ElemVec::from_column_slice(x), &law, &mut fx);
+                    out.copy_from_slice(fx.as_slice());
+                },
+            );
             assert!(
                 (k - k.transpose()).norm() <= 1e-12 * k.norm(),
                 "tangent not symmetric"
@@ -228,20 +234,19 @@ fn average_stress_force_is_a_discrete_gradient() {
     el.average_stress_force(&ea, &ea, &law, &mut f, None);
     assert!((f - fe).norm() <= 1e-10 * fe.norm());
 
-    let hstep = 1e-7;
-    let mut fd = ElemMat::zeros();
-    for j in 0..8 {
-        let (mut ep, mut em) = (eb, eb);
-        ep[j] += hstep;
-        em[j] -= hstep;
-        let (mut fp, mut fm) = (ElemVec::zeros(), ElemVec::zeros());
-        el.average_stress_force(&ea, &ep, &law, &mut fp, None);
-        el.average_stress_force(&ea, &em, &law, &mut fm, None);
-        fd.set_column(j, &((fp - fm) / (2.0 * hstep)));
-    }
     el.average_stress_force(&ea, &eb, &law, &mut f, Some(&mut k));
-    let err = (fd - k).norm() / k.norm();
-    assert!(err < 1e-7, "average-stress tangent error {err}");
+    fd::assert_jacobian(
+        "average-stress tangent",
+        &square(&k),
+        eb.as_slice(),
+        1e-7,
+        1e-7,
+        |x, out| {
+            let mut fx = ElemVec::zeros();
+            el.average_stress_force(&ea, &ElemVec::from_column_slice(x), &law, &mut fx, None);
+            out.copy_from_slice(fx.as_slice());
+        },
+    );
 }
 
 /// Pure axial stretch: ε11 = ½(λ² − 1) integrated over the volume.

@@ -6,6 +6,7 @@ use crate::element_conformance;
 use crate::elements::Element;
 use crate::elements::conformance::{Case, Config, rigid_motion};
 use crate::elements::corotational3d::*;
+use crate::elements::finite_difference as fd;
 use crate::elements::rotation::{exp_so3, tangent_body};
 use nalgebra::{Matrix3, Vector3};
 
@@ -68,6 +69,20 @@ fn perturbed(n: &Nodes, j: usize, eps: f64) -> Nodes {
         p.r[node] = n.r[node] * exp_so3(&w);
     }
     p
+}
+
+/// Nodes moved by `d = [δx1, δW1, δx2, δW2]` (positions added, body spins applied).
+fn spun(n: &Nodes, d: &[f64]) -> Nodes {
+    let mut p = *n;
+    for i in 0..2 {
+        p.x[i] += Vector3::from_column_slice(&d[6 * i..6 * i + 3]);
+        p.r[i] = n.r[i] * exp_so3(&Vector3::from_column_slice(&d[6 * i + 3..6 * i + 6]));
+    }
+    p
+}
+
+fn dmat(r: usize, c: usize, x: &[f64]) -> nalgebra::DMatrix<f64> {
+    nalgebra::DMatrix::from_column_slice(r, c, x)
 }
 
 fn theories() -> [Theory; 2] {
@@ -133,17 +148,14 @@ fn force_matches_energy_gradient() {
         let n = deformed(&n0);
         let mut f = Vec12::zeros();
         el.internal_force(&n, &mut f);
-        let h = 1e-6;
-        for j in 0..12 {
-            let up = el.strain_energy(&perturbed(&n, j, h));
-            let um = el.strain_energy(&perturbed(&n, j, -h));
-            let fd = (up - um) / (2.0 * h);
-            assert!(
-                (fd - f[j]).abs() <= 1e-6 * f.norm(),
-                "{th:?} dof {j}: {fd} vs {}",
-                f[j]
-            );
-        }
+        let g = fd::gradient(&[0.0; 12], |_| 1e-6, |d| el.strain_energy(&spun(&n, d)));
+        fd::assert_close(
+            &format!("{th:?}: force vs energy gradient"),
+            &dmat(12, 1, f.as_slice()),
+            &dmat(12, 1, &g),
+            1e-6,
+            0.0,
+        );
     }
 }
 
@@ -173,16 +185,18 @@ fn tangent_matches_finite_differences() {
             let mut f = Vec12::zeros();
             let mut k = Mat12::zeros();
             el.internal_force_tangent(&n, &mut f, &mut k);
-            let h = 1e-7;
-            let mut fd = Mat12::zeros();
-            for j in 0..12 {
-                let (mut fp, mut fm) = (Vec12::zeros(), Vec12::zeros());
-                el.internal_force(&perturbed(&n, j, h), &mut fp);
-                el.internal_force(&perturbed(&n, j, -h), &mut fm);
-                fd.set_column(j, &((fp - fm) / (2.0 * h)));
-            }
-            let err = (fd - k).norm() / k.norm();
-            assert!(err < 1e-7, "{th:?}: relative tangent error {err}");
+            fd::assert_jacobian(
+                &format!("{th:?}: tangent"),
+                &dmat(12, 12, k.as_slice()),
+                &[0.0; 12],
+                1e-7,
+                1e-7,
+                |d, out| {
+                    let mut fx = Vec12::zeros();
+                    el.internal_force(&spun(&n, d), &mut fx);
+                    out.copy_from_slice(fx.as_slice());
+                },
+            );
         }
     }
 }
@@ -416,29 +430,33 @@ fn inertia_derivatives_match_finite_differences() {
             &mut f,
             Some((0.0, 1.0, &mut cc, &mut dummy)),
         );
+        let v12 = Vec12::from_column_slice;
+        let put = |f: Vec12, out: &mut [f64]| out.copy_from_slice(f.as_slice());
         let h = 1e-6;
-        let (mut fdm, mut fdc, mut fdk) = (Mat12::zeros(), Mat12::zeros(), Mat12::zeros());
-        for j in 0..12 {
-            let mut e = Vec12::zeros();
-            e[j] = h;
-            fdm.set_column(
-                j,
-                &((force(&n, &vv, &(av + e)) - force(&n, &vv, &(av - e))) / (2.0 * h)),
-            );
-            fdc.set_column(
-                j,
-                &((force(&n, &(vv + e), &av) - force(&n, &(vv - e), &av)) / (2.0 * h)),
-            );
-            fdk.set_column(
-                j,
-                &((force(&perturbed(&n, j, h), &vv, &av) - force(&perturbed(&n, j, -h), &vv, &av))
-                    / (2.0 * h)),
-            );
-        }
-        for (name, fd, an) in [("M", fdm, mm), ("C", fdc, cc), ("K", fdk, kk)] {
-            let err = (fd - an).norm() / an.norm();
-            assert!(err < 1e-7, "{mass:?} {name}: relative error {err}");
-        }
+        fd::assert_jacobian(
+            &format!("{mass:?} M"),
+            &dmat(12, 12, mm.as_slice()),
+            av.as_slice(),
+            h,
+            1e-7,
+            |x, out| put(force(&n, &vv, &v12(x)), out),
+        );
+        fd::assert_jacobian(
+            &format!("{mass:?} C"),
+            &dmat(12, 12, cc.as_slice()),
+            vv.as_slice(),
+            h,
+            1e-7,
+            |x, out| put(force(&n, &v12(x), &av), out),
+        );
+        fd::assert_jacobian(
+            &format!("{mass:?} K"),
+            &dmat(12, 12, kk.as_slice()),
+            &[0.0; 12],
+            h,
+            1e-7,
+            |d, out| put(force(&spun(&n, d), &vv, &av), out),
+        );
         assert!((mm - mm.transpose()).norm() < 1e-14 * mm.norm());
     }
 }
