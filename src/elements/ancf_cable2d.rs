@@ -503,8 +503,8 @@ impl Element<ELEMENT_COORDS> for AncfCable2d {
         }
     }
 
-    fn constant_mass(&self) -> bool {
-        true
+    fn constant_mass_matrix(&self) -> Option<&ElemMat> {
+        Some(&self.mass)
     }
 
     fn mass_into(&self, _s: &ElementState<ELEMENT_COORDS>, m: &mut ElemMat) {
@@ -528,9 +528,12 @@ impl Element<ELEMENT_COORDS> for AncfCable2d {
         s: &ElementState<ELEMENT_COORDS>,
         f: &mut ElemVec,
         k: &mut ElemMat,
-        c: &mut ElemMat,
+        c: Option<&mut ElemMat>,
     ) -> f64 {
-        self.internal_force_tangent(&s.q, &s.v, f, k, c)
+        match c {
+            Some(c) => self.internal_force_tangent(&s.q, &s.v, f, k, c),
+            None => self.internal_force_tangent(&s.q, &s.v, f, k, &mut ElemMat::zeros()),
+        }
     }
 
     fn damping_power_at(&self, s: &ElementState<ELEMENT_COORDS>) -> f64 {

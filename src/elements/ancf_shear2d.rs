@@ -451,8 +451,8 @@ impl Element<ELEMENT_COORDS> for Shear2dElement {
         }
     }
 
-    fn constant_mass(&self) -> bool {
-        true
+    fn constant_mass_matrix(&self) -> Option<&ElemMat> {
+        Some(&self.mass)
     }
 
     fn mass_into(&self, _s: &ElementState<ELEMENT_COORDS>, m: &mut ElemMat) {
@@ -479,9 +479,11 @@ impl Element<ELEMENT_COORDS> for Shear2dElement {
         s: &ElementState<ELEMENT_COORDS>,
         f: &mut ElemVec,
         k: &mut ElemMat,
-        c: &mut ElemMat,
+        c: Option<&mut ElemMat>,
     ) -> f64 {
-        c.fill(0.0);
+        if let Some(c) = c {
+            *c = ElemMat::zeros();
+        }
         self.kernel.internal_force_tangent(&s.q, &self.law, f, k)
     }
 

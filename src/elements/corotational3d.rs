@@ -751,8 +751,8 @@ impl Element<ELEMENT_DOFS> for Corot3d {
         }
     }
 
-    fn constant_mass(&self) -> bool {
-        false
+    fn constant_mass_matrix(&self) -> Option<&Mat12> {
+        None
     }
 
     fn mass_into(&self, s: &ElementState<ELEMENT_DOFS>, m: &mut Mat12) {
@@ -762,7 +762,7 @@ impl Element<ELEMENT_DOFS> for Corot3d {
     /// `Q_g = Σ_p B_pᵀ μ_p g` over the mass points (and the end masses of the lumped model).
     fn gravity_into(&self, s: &ElementState<ELEMENT_DOFS>, g: &Vector3<f64>, f: &mut Vec12) {
         let zero = Rates::default();
-        f.fill(0.0);
+        *f = Vec12::zeros();
         self.inertia_force(&Self::nodes_of(s), &zero, &zero, g, f, None);
         f.neg_mut();
     }
@@ -781,9 +781,11 @@ impl Element<ELEMENT_DOFS> for Corot3d {
         s: &ElementState<ELEMENT_DOFS>,
         f: &mut Vec12,
         k: &mut Mat12,
-        c: &mut Mat12,
+        c: Option<&mut Mat12>,
     ) -> f64 {
-        c.fill(0.0);
+        if let Some(c) = c {
+            *c = Mat12::zeros();
+        }
         let u = self.internal_force_tangent(&Self::nodes_of(s), f, k);
         Self::chain_rotations(s, k);
         u
@@ -809,7 +811,7 @@ impl Element<ELEMENT_DOFS> for Corot3d {
         match mat {
             Some((c, out)) => {
                 let mut k = Mat12::zeros();
-                out.fill(0.0);
+                *out = Mat12::zeros();
                 let u = self.internal_force_tangent(&nodes, f, &mut k);
                 self.inertia_force(&nodes, &v, &a, g, f, Some((c.mass, c.damping, out, &mut k)));
                 Self::chain_rotations(s, &mut k);

@@ -119,8 +119,10 @@ pub trait Element<const N: usize>: Send + Sync + std::fmt::Debug {
     /// Coordinate layout (slots).
     fn layout(&self) -> Layout;
 
-    /// Whether the mass matrix is independent of the state (ANCF elements).
-    fn constant_mass(&self) -> bool;
+    /// The mass matrix if it is independent of the state (ANCF elements), else `None`. An
+    /// element set assembles a constant mass once and scatters only `K` and `C` per
+    /// evaluation.
+    fn constant_mass_matrix(&self) -> Option<&SMatrix<f64, N, N>>;
 
     /// Mass matrix `M = ∂f_inertia/∂a` at the state [kg, kg m, kg m² by slot].
     fn mass_into(&self, s: &ElementState<N>, m: &mut SMatrix<f64, N, N>);
@@ -135,14 +137,14 @@ pub trait Element<const N: usize>: Send + Sync + std::fmt::Debug {
     /// Internal force `f_int(q, v)` [N, N m] (elastic plus material damping), returns `U` [J].
     fn force_into(&self, s: &ElementState<N>, f: &mut SVector<f64, N>) -> f64;
 
-    /// Internal force, tangent stiffness `K = ∂f_int/∂q` [N/m, N, N m] and damping matrix
-    /// `C = ∂f_int/∂v` [N s/m, ...]; returns `U` [J].
+    /// Internal force, tangent stiffness `K = ∂f_int/∂q` [N/m, N, N m] and, if `c` is given,
+    /// the damping matrix `C = ∂f_int/∂v` [N s/m, ...]; returns `U` [J].
     fn tangent_into(
         &self,
         s: &ElementState<N>,
         f: &mut SVector<f64, N>,
         k: &mut SMatrix<f64, N, N>,
-        c: &mut SMatrix<f64, N, N>,
+        c: Option<&mut SMatrix<f64, N, N>>,
     ) -> f64;
 
     /// Kinetic energy [J]; default `½ vᵀ M v`.
@@ -170,21 +172,33 @@ pub trait Element<const N: usize>: Send + Sync + std::fmt::Debug {
         f: &mut SVector<f64, N>,
         mat: Option<(JacobianCoeffs, &mut SMatrix<f64, N, N>)>,
     ) -> f64 {
-        let mut m = SMatrix::<f64, N, N>::zeros();
-        self.mass_into(s, &mut m);
+        let mut buf = SMatrix::<f64, N, N>::zeros();
+        let m = match self.constant_mass_matrix() {
+            Some(m) => m,
+            None => {
+                self.mass_into(s, &mut buf);
+                &buf
+            }
+        };
         let u = match mat {
             Some((c, out)) => {
-                let (mut k, mut d) = (SMatrix::<f64, N, N>::zeros(), SMatrix::<f64, N, N>::zeros());
-                let u = self.tangent_into(s, f, &mut k, &mut d);
-                *out = m * c.mass + k * c.stiffness;
-                if c.damping != 0.0 {
-                    *out += d * c.damping;
+                let mut d = SMatrix::<f64, N, N>::zeros();
+                let damped = c.damping != 0.0;
+                let u = self.tangent_into(s, f, out, damped.then_some(&mut d));
+                // slices: nalgebra's element iterators are not vectorized
+                for (o, mi) in out.as_mut_slice().iter_mut().zip(m.as_slice()) {
+                    *o = c.stiffness * *o + c.mass * mi;
+                }
+                if damped {
+                    for (o, di) in out.as_mut_slice().iter_mut().zip(d.as_slice()) {
+                        *o += c.damping * di;
+                    }
                 }
                 u
             }
             None => self.force_into(s, f),
         };
-        *f += m * a;
+        f.gemv(1.0, m, a, 1.0);
         if *g != Vector3::zeros() {
             let mut qg = SVector::<f64, N>::zeros();
             self.gravity_into(s, g, &mut qg);
@@ -213,8 +227,8 @@ impl<const N: usize, T: Element<N> + ?Sized> Element<N> for std::sync::Arc<T> {
     fn layout(&self) -> Layout {
         (**self).layout()
     }
-    fn constant_mass(&self) -> bool {
-        (**self).constant_mass()
+    fn constant_mass_matrix(&self) -> Option<&SMatrix<f64, N, N>> {
+        (**self).constant_mass_matrix()
     }
     fn mass_into(&self, s: &ElementState<N>, m: &mut SMatrix<f64, N, N>) {
         (**self).mass_into(s, m)
@@ -233,7 +247,7 @@ impl<const N: usize, T: Element<N> + ?Sized> Element<N> for std::sync::Arc<T> {
         s: &ElementState<N>,
         f: &mut SVector<f64, N>,
         k: &mut SMatrix<f64, N, N>,
-        c: &mut SMatrix<f64, N, N>,
+        c: Option<&mut SMatrix<f64, N, N>>,
     ) -> f64 {
         (**self).tangent_into(s, f, k, c)
     }

@@ -217,14 +217,12 @@ impl Beam2d {
             .collect();
         let asm = Assembly::new(dofs, &[(ELEMENT_COORDS, connectivity.as_flattened())], &[]);
 
-        let mut elements = Vec::with_capacity(n_el);
-        for (e, d) in connectivity.iter().enumerate() {
-            let e0 = ElemVec::from_fn(|i, _| q0[d[i]]);
-            let el = Shear2dElement::new(&e0, le, section, rule, law, rho)
-                .ok_or_else(|| format!("element {e}: degenerate reference geometry"))?;
-            elements.push(el);
-        }
-        let set = ElementSet::new(elements, connectivity, &asm);
+        // A straight mesh of equal elements: one element (its reference data are invariant
+        // under the translation from one element to the next) shared by the whole set.
+        let e0 = ElemVec::from_fn(|i, _| q0[connectivity[0][i]]);
+        let el = Shear2dElement::new(&e0, le, section, rule, law, rho)
+            .ok_or("element 0: degenerate reference geometry")?;
+        let set = ElementSet::new(vec![el], connectivity, &asm);
         let mut gravity_full = vec![0.0; n_full];
         let g3 = Vector3::new(gravity.x, gravity.y, 0.0);
         set.add_gravity(&q0, None, &g3, 1.0, &mut gravity_full);
@@ -413,12 +411,12 @@ impl Beam2d {
     fn port_rows(&self, port: usize, c_m: f64) -> Vec<(usize, [f64; 2])> {
         let node = self.motion_nodes[port];
         let base = node * NODE_COORDS;
-        let (mut fe, mut ke, mut ce) = (ElemVec::zeros(), ElemMat::zeros(), ElemMat::zeros());
+        let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
         let mut rows: Vec<(usize, [f64; 2])> = Vec::new();
         for e in self.elements_at(node) {
             let s = ElementState::new(self.set.gather(e, &self.q), ElemVec::zeros());
             let el = self.set.element(e);
-            el.tangent_into(&s, &mut fe, &mut ke, &mut ce);
+            el.tangent_into(&s, &mut fe, &mut ke, None);
             ke += c_m * el.mass();
             let dofs = self.set.element_dofs(e);
             let local = if dofs[0] == base { 0 } else { 4 };
