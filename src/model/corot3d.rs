@@ -33,18 +33,20 @@ use crate::kinds::beam_3d::scene::{Input, Output, io, names::*};
 use crate::kinds::beam_3d::{Beam3dScene, CentrelineSection};
 use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
+use crate::meshers::centreline::{Piece, mesh_centreline};
+use crate::meshers::stations::Stations;
 use crate::scene::params::{ParamValues, names::*};
 use crate::scene::tables::{ProbeQuantity, SupportKind};
 use crate::snapshot::{StateReader, StateWriter};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-/// Reference nodes of a centre line.
+/// Reference nodes of a centre line and the section frame of every element.
 #[derive(Clone, Debug)]
 struct Mesh {
     /// Node positions [m].
     x: Vec<Vector3<f64>>,
-    /// Arc length of each node along the centre line [m].
-    s: Vec<f64>,
+    /// Arc length of each node along the centre line.
+    stations: Stations,
     /// Reference section frame of each element.
     frames: Vec<Matrix3<f64>>,
 }
@@ -53,106 +55,35 @@ fn vec3(a: &[f64; 3]) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
 }
 
-/// Nodes along the centre line: `n_el` elements shared among the pieces in proportion to their
-/// lengths (largest remainder, at least one each); piece ends are always nodes.
+/// Nodes along the centre line ([`mesh_centreline`]) and the element frames: local z as close
+/// as possible to `section_z` (default global z; global y where an element is parallel to it).
 fn mesh(c: &CentrelineSection, n_el: usize) -> Result<Mesh, String> {
-    let n_pieces = c.segments.len();
-    if n_el < n_pieces {
-        return Err(format!(
-            "{MESH_N_ELEMENTS} = {n_el}: the centre line has {n_pieces} pieces and each needs at least one element"
-        ));
-    }
-    // Geometry of every piece: start point, start tangent, length, and a point function.
-    enum Piece {
-        Line {
-            p: Vector3<f64>,
-            t: Vector3<f64>,
-            len: f64,
-        },
-        Arc {
-            p: Vector3<f64>,
-            t: Vector3<f64>,
-            n: Vector3<f64>,
-            r: f64,
-            phi: f64,
-        },
-    }
-    let mut pieces = Vec::with_capacity(n_pieces);
-    let mut p = vec3(&c.start);
-    let mut t = Vector3::x();
-    for (i, seg) in c.segments.iter().enumerate() {
-        if let Some(d) = &seg.direction {
-            t = vec3(d).normalize();
-        }
-        match (seg.length, seg.radius, seg.angle_deg, &seg.bend_axis) {
-            (Some(len), ..) => {
-                pieces.push(Piece::Line { p, t, len });
-                p += t * len;
-            }
-            (None, Some(r), Some(a), Some(b)) => {
-                let b = vec3(b);
-                let bp = b - t * b.dot(&t);
-                if bp.norm() < 1e-8 * b.norm() {
-                    return Err(format!(
-                        "centreline.segments[{i}].bend_axis: parallel to the tangent {t:?}"
-                    ));
-                }
-                let n = bp.normalize().cross(&t);
-                let phi = a.to_radians();
-                pieces.push(Piece::Arc { p, t, n, r, phi });
-                p += (t * phi.sin() + n * (1.0 - phi.cos())) * r;
-                t = t * phi.cos() + n * phi.sin();
-            }
-            _ => return Err(format!("centreline.segments[{i}]: incomplete piece")),
-        }
-    }
-    let lengths: Vec<f64> = pieces
+    let pieces: Vec<Piece> = c
+        .segments
         .iter()
-        .map(|pc| match pc {
-            Piece::Line { len, .. } => *len,
-            Piece::Arc { r, phi, .. } => r * phi,
+        .enumerate()
+        .map(|(i, seg)| {
+            let direction = seg.direction.as_ref().map(vec3);
+            match (seg.length, seg.radius, seg.angle_deg, &seg.bend_axis) {
+                (Some(length), ..) => Ok(Piece::Line { direction, length }),
+                (None, Some(radius), Some(a), Some(b)) => Ok(Piece::Arc {
+                    direction,
+                    radius,
+                    angle: a.to_radians(),
+                    bend_axis: vec3(b),
+                }),
+                _ => Err(format!("centreline.segments[{i}]: incomplete piece")),
+            }
         })
-        .collect();
-    let total: f64 = lengths.iter().sum();
-    // Largest-remainder distribution with at least one element per piece.
-    let exact: Vec<f64> = lengths.iter().map(|l| n_el as f64 * l / total).collect();
-    let mut counts: Vec<usize> = exact.iter().map(|e| (e.floor() as usize).max(1)).collect();
-    while counts.iter().sum::<usize>() > n_el {
-        let k = (0..n_pieces)
-            .filter(|&k| counts[k] > 1)
-            .max_by(|&a, &b| {
-                (counts[a] as f64 - exact[a]).total_cmp(&(counts[b] as f64 - exact[b]))
-            })
-            .ok_or("cannot distribute the elements")?;
-        counts[k] -= 1;
-    }
-    while counts.iter().sum::<usize>() < n_el {
-        let k = (0..n_pieces)
-            .max_by(|&a, &b| {
-                (exact[a] - counts[a] as f64).total_cmp(&(exact[b] - counts[b] as f64))
-            })
-            .ok_or("cannot distribute the elements")?;
-        counts[k] += 1;
-    }
-    let mut x = vec![vec3(&c.start)];
-    let mut s = vec![0.0];
-    let mut s0 = 0.0;
-    for (k, pc) in pieces.iter().enumerate() {
-        let m = counts[k];
-        for j in 1..=m {
-            let u = j as f64 / m as f64;
-            let point = match pc {
-                Piece::Line { p, t, len } => p + t * (len * u),
-                Piece::Arc { p, t, n, r, phi } => {
-                    let a = phi * u;
-                    p + (t * a.sin() + n * (1.0 - a.cos())) * *r
-                }
-            };
-            x.push(point);
-            s.push(s0 + lengths[k] * u);
-        }
-        s0 += lengths[k];
-    }
+        .collect::<Result<_, _>>()?;
+    let line = mesh_centreline(
+        vec3(&c.start),
+        &pieces,
+        n_el,
+        MESH_N_ELEMENTS,
+        "centreline.segments",
+    )?;
+    let x = line.x;
     let hint = c.section_z.as_ref().map_or(Vector3::z(), vec3);
     let mut frames = Vec::with_capacity(n_el);
     for e in 0..n_el {
@@ -161,7 +92,11 @@ fn mesh(c: &CentrelineSection, n_el: usize) -> Result<Mesh, String> {
             .ok_or_else(|| format!("element {e}: degenerate reference geometry"))?;
         frames.push(f);
     }
-    Ok(Mesh { x, s, frames })
+    Ok(Mesh {
+        x,
+        stations: line.stations,
+        frames,
+    })
 }
 
 /// A point load at a node.
@@ -249,35 +184,8 @@ impl Beam3d {
         );
         let m = mesh(c, n_el)?;
         let n_nodes = n_el + 1;
-        let length = m.s[n_el];
-        let node_at = |key: String, at: f64| -> Result<usize, String> {
-            let target = at * length;
-            let k =
-                m.s.iter()
-                    .enumerate()
-                    .min_by(|a, b| (a.1 - target).abs().total_cmp(&(b.1 - target).abs()))
-                    .map(|(k, _)| k)
-                    .unwrap_or(0);
-            if (m.s[k] - target).abs() > 1e-9 * length {
-                let lo =
-                    m.s.iter()
-                        .rev()
-                        .find(|&&s| s <= target)
-                        .copied()
-                        .unwrap_or(0.0);
-                let hi =
-                    m.s.iter()
-                        .find(|&&s| s >= target)
-                        .copied()
-                        .unwrap_or(length);
-                return Err(format!(
-                    "{key}.at = {at}: must fall on a node; with {MESH_N_ELEMENTS} = {n_el} the nearest nodes are at {:.6} and {:.6} of the length",
-                    lo / length,
-                    hi / length
-                ));
-            }
-            Ok(k)
-        };
+        let length = m.stations.length();
+        let node_at = |key: String, at: f64| m.stations.node_at(&key, at, MESH_N_ELEMENTS);
         let mut constrained = vec![false; n_nodes * NODE_DOFS];
         for (i, s) in scene.supports.iter().enumerate() {
             let k = node_at(format!("supports[{i}]"), s.at)?;

@@ -2,7 +2,6 @@
 
 pub mod beam2d;
 pub mod belt_drive;
-pub mod belt_layout;
 pub mod corot3d;
 mod factory;
 pub mod inputs;
