@@ -762,6 +762,19 @@ impl Model for Beam2d {
                 let k = self.interface_jacobian();
                 -dp * k[(2 * port + axis) * np + 2 * p2 + coord]
             }
+            // A load on the port node goes straight into the driver (`port_reaction`).
+            (OutputKind::Reaction { port, axis }, InputKind::Load { load, axis: a2 }) => {
+                let base = self.motion_nodes[port] * NODE_COORDS;
+                if a2 != axis {
+                    return Some(0.0);
+                }
+                self.load_maps[load]
+                    .weights()
+                    .iter()
+                    .filter(|(i, _)| *i == base)
+                    .map(|(_, w)| w)
+                    .sum()
+            }
             _ => 0.0,
         })
     }
