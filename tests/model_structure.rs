@@ -17,7 +17,7 @@ use flexfmu::logging::Status;
 use flexfmu::model_description::model_description;
 use flexfmu::scene::Scene;
 use flexfmu::solver::simulation::{FD_REL, Simulation};
-use flexfmu::variables::{Causality, InputKind, OutputKind, Role, Value, VariableTable};
+use flexfmu::variables::{InputKind, OutputKind, Role, Value, VariableTable};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
@@ -97,7 +97,7 @@ fn partials(
     out
 }
 
-fn check_scene(path: &PathBuf) -> usize {
+fn check_scene(path: &std::path::Path) -> usize {
     let scene = Scene::from_path(path).unwrap();
     let vars = VariableTable::from_scene(&scene);
     let io = io(&vars);

@@ -258,10 +258,10 @@ impl Instance {
             }
             let order = order as usize;
             if self.state == State::StepComplete {
-                if let Some(sim) = self.sim.as_mut() {
-                    if let Err(e) = sim.set_input_derivative(kind, order, value) {
-                        return self.error(format!("{}: {e}", call.name()));
-                    }
+                if let Some(sim) = self.sim.as_mut()
+                    && let Err(e) = sim.set_input_derivative(kind, order, value)
+                {
+                    return self.error(format!("{}: {e}", call.name()));
                 }
             } else {
                 self.pending_derivatives

@@ -656,10 +656,10 @@ impl Beam2d {
         if r.iter().any(|x| !x.is_finite()) {
             return Err(ModelError::NonFinite);
         }
-        if let Some((_, vals)) = jac {
-            if vals.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::NonFinite);
-            }
+        if let Some((_, vals)) = jac
+            && vals.iter().any(|x| !x.is_finite())
+        {
+            return Err(ModelError::NonFinite);
         }
         Ok(())
     }

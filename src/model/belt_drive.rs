@@ -895,13 +895,11 @@ impl BeltDrive {
                         blk[(8, 8)] -= m[(2, 2)];
                     }
                 }
-                if any {
-                    if let Some((_, vals)) = jac.as_mut() {
-                        let pos = &self.cpos[(e * np + k) * 81..(e * np + k + 1) * 81];
-                        for (p, v) in pos.iter().zip(blk.as_slice()) {
-                            if *p != NONE {
-                                vals[*p as usize] += v;
-                            }
+                if any && let Some((_, vals)) = jac.as_mut() {
+                    let pos = &self.cpos[(e * np + k) * 81..(e * np + k + 1) * 81];
+                    for (p, v) in pos.iter().zip(blk.as_slice()) {
+                        if *p != NONE {
+                            vals[*p as usize] += v;
                         }
                     }
                 }
@@ -919,10 +917,10 @@ impl BeltDrive {
             }
         }
         self.fw = f;
-        if let Some((_, vals)) = jac.as_ref() {
-            if vals.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::NonFinite);
-            }
+        if let Some((_, vals)) = jac.as_ref()
+            && vals.iter().any(|x| !x.is_finite())
+        {
+            return Err(ModelError::NonFinite);
         }
         Ok(())
     }

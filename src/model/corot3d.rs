@@ -599,15 +599,14 @@ impl Corot3dModel {
                 fw[b + c] -= fx[c];
                 fw[b + 3 + c] -= mb[c];
             }
-            if let Some((c, vals)) = jac.as_mut() {
-                if force != Vector3::zeros() && l.follower
-                    || moment != Vector3::zeros() && !l.follower
-                {
-                    let d = blk * self.tan[l.node] * (c.stiffness * k_scale);
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            self.asm.add_entry(b + rows + i, b + 3 + j, d[(i, j)], vals);
-                        }
+            if let Some((c, vals)) = jac.as_mut()
+                && (force != Vector3::zeros() && l.follower
+                    || moment != Vector3::zeros() && !l.follower)
+            {
+                let d = blk * self.tan[l.node] * (c.stiffness * k_scale);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        self.asm.add_entry(b + rows + i, b + 3 + j, d[(i, j)], vals);
                     }
                 }
             }
@@ -617,10 +616,10 @@ impl Corot3dModel {
         if r.iter().any(|x| !x.is_finite()) {
             return Err(ModelError::NonFinite);
         }
-        if let Some((_, vals)) = jac {
-            if vals.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::NonFinite);
-            }
+        if let Some((_, vals)) = jac
+            && vals.iter().any(|x| !x.is_finite())
+        {
+            return Err(ModelError::NonFinite);
         }
         Ok(())
     }

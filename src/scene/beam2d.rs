@@ -31,10 +31,10 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
         "only for 3D element types (\"corotational_3d\"), not for \"ancf_shear_2d\"",
         &mut errs,
     );
-    if let Some(g) = &s.geometry {
-        if !g.origin.iter().all(|v| v.is_finite()) || !g.angle_deg.is_finite() {
-            errs.push("geometry.origin / geometry.angle_deg: must be finite numbers".into());
-        }
+    if let Some(g) = &s.geometry
+        && (!g.origin.iter().all(|v| v.is_finite()) || !g.angle_deg.is_finite())
+    {
+        errs.push("geometry.origin / geometry.angle_deg: must be finite numbers".into());
     }
     let at_ok =
         |key: String, at: f64, errs: &mut Vec<String>| check_fraction(&key, at, "the length", errs);
