@@ -26,24 +26,16 @@ pub struct Capabilities {
     pub directional_derivative: bool,
 }
 
-/// What an FMU of a scene kind supports.
+/// What an FMU of a scene kind supports. Every kind interpolates its inputs (loads, moments,
+/// motion ports and pulley inputs are polynomials of the derivatives set by
+/// `fmi2SetRealInputDerivatives`, `model::inputs::InputSignal`) and gives first output
+/// derivatives (`Model::output_derivative`, analytic or along the motion, see each model).
 pub fn capabilities(kind: SceneKind) -> Capabilities {
     match kind {
-        SceneKind::Beam2d => Capabilities {
+        SceneKind::Beam2d | SceneKind::Corot3d | SceneKind::BeltDrive => Capabilities {
             variable_step: true,
             interpolate_inputs: true,
             max_output_derivative_order: 1,
-            get_set_state: true,
-            serialize_state: true,
-            directional_derivative: true,
-        },
-        // No analytic output rates and no input interpolation (3D beams: not yet; belt drives:
-        // pulley inputs are smooth signals set every step); state and derivatives are generic
-        // (the models save their orientations and loads, or their contact history).
-        SceneKind::Corot3d | SceneKind::BeltDrive => Capabilities {
-            variable_step: true,
-            interpolate_inputs: false,
-            max_output_derivative_order: 0,
             get_set_state: true,
             serialize_state: true,
             directional_derivative: true,

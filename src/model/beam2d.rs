@@ -9,7 +9,7 @@ use crate::elements::ancf_shear2d::{
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::integrators::DynState;
 use crate::linalg::{CscPattern, LinearSolver, SolverKind};
-use crate::model::inputs::InputSignal;
+use crate::model::inputs::{InputSignal, prescribed};
 use crate::scene::file::{Axis, ProbeQuantity, SceneFile, SupportKind};
 use crate::scene::params::{ParamValues, names::*};
 use crate::snapshot::{StateReader, StateWriter};
@@ -106,23 +106,6 @@ impl Clone for Interface {
             solver: None,
             vals: Vec::new(),
         }
-    }
-}
-
-/// Prescribed position, velocity and acceleration of one coordinate of a motion port at `t`:
-/// the position input's own polynomial if derivatives were given, otherwise the position
-/// advanced with the velocity input (integrated exactly).
-fn prescribed(pos: &InputSignal, vel: &InputSignal, t: f64) -> (f64, f64, f64) {
-    if pos.interpolated {
-        (pos.at(t), pos.rate_at(t), pos.accel())
-    } else {
-        let tau = t - pos.t_ref;
-        let [d1, d2] = vel.derivatives;
-        (
-            pos.value + tau * (vel.value + tau * (0.5 * d1 + tau * d2 / 6.0)),
-            vel.value + tau * (d1 + 0.5 * tau * d2),
-            d1 + tau * d2,
-        )
     }
 }
 

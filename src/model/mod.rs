@@ -6,6 +6,7 @@ pub mod belt_layout;
 pub mod corot3d;
 mod factory;
 pub mod inputs;
+pub mod rates;
 mod system;
 
 pub use factory::build_model;
