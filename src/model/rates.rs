@@ -39,7 +39,7 @@ mod tests {
     #[test]
     fn rate_of_a_smooth_function_along_the_motion() {
         // f = q0² v1 + sin(q1): df/dt = 2 q0 v0 v1 + q0² a1 + cos(q1) v1
-        let (q, v, a) = ([0.7, -0.3], [1.3, 2.1], [-0.4, 5.0]);
+        let (q, v, a): ([f64; 2], [f64; 2], [f64; 2]) = ([0.7, -0.3], [1.3, 2.1], [-0.4, 5.0]);
         let f = |q: &[f64], v: &[f64]| q[0] * q[0] * v[1] + q[1].sin();
         let exact = 2.0 * q[0] * v[0] * v[1] + q[0] * q[0] * a[1] + q[1].cos() * v[1];
         let mut work = [vec![], vec![]];
