@@ -20,13 +20,15 @@
 //! invertible `T(θ)ᵀ` is unnecessary, so it is not done). The iteration matrix is exact:
 //! element tangents with respect to body spins times `T(θ)` on the rotation columns.
 
+use super::inputs::InputSignal;
+use super::rates;
 use super::system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::assembly::{Assembly, DofMap};
 use crate::elements::corotational3d::{
     BeamSection, Corot3d, ELEMENT_DOFS, MassModel, Mat12, NODE_DOFS, Nodes, Rates, Theory, Vec12,
     reference_frame,
 };
-use crate::elements::rotation::{exp_so3, skew, tangent_body};
+use crate::elements::rotation::{exp_so3, skew, tangent_body, tangent_spatial_inv};
 use crate::integrators::DynState;
 use crate::kinds::KindIo;
 use crate::kinds::beam_3d::scene::{Input, Output, io, names::*};
@@ -103,8 +105,9 @@ fn mesh(c: &CentrelineSection, n_el: usize) -> Result<Mesh, String> {
 #[derive(Clone, Copy, Debug)]
 struct NodeLoad {
     node: usize,
-    /// `[fx, fy, fz, mx, my, mz]` [N, N m].
-    values: [f64; 6],
+    /// `[fx, fy, fz, mx, my, mz]` [N, N m] as signals of time (extrapolated inside a
+    /// communication step with the derivatives of `fmi2SetRealInputDerivatives`).
+    values: [InputSignal; 6],
     follower: bool,
 }
 
@@ -128,8 +131,11 @@ pub struct Beam3d {
     probes: Vec<NodeProbe>,
     scales: Vec<f64>,
     // committed state (outputs are computed from it)
+    t: f64,
     q: Vec<f64>,
     v: Vec<f64>,
+    /// Accelerations of the committed state (`θ̈ = Ẇ` at θ = 0), for output rates.
+    acc: Vec<f64>,
     // work buffers
     qw: Vec<f64>,
     vw: Vec<f64>,
@@ -215,7 +221,7 @@ impl Beam3d {
         for (i, l) in scene.loads.iter().enumerate() {
             loads.push(NodeLoad {
                 node: node_at(format!("loads[{i}]"), l.at)?,
-                values: [l.fx, l.fy, l.fz, l.mx, l.my, l.mz],
+                values: [l.fx, l.fy, l.fz, l.mx, l.my, l.mz].map(InputSignal::constant),
                 follower: l.follower,
             });
         }
@@ -249,8 +255,10 @@ impl Beam3d {
             loads,
             probes,
             scales,
+            t: 0.0,
             q: q0.clone(),
             v: vec![0.0; n_full],
+            acc: vec![0.0; n_full],
             qw: q0,
             vw: vec![0.0; n_full],
             aw: vec![0.0; n_full],
@@ -312,32 +320,101 @@ impl Beam3d {
 
     /// Kinetic energy [J] of the committed state.
     pub fn kinetic_energy(&self) -> f64 {
+        self.kinetic_energy_at(&self.q, &self.v)
+    }
+
+    /// Gravity potential [J] of the committed state (relative to the origin).
+    pub fn potential_energy(&self) -> f64 {
+        self.potential_energy_at(&self.q)
+    }
+
+    /// Strain energy [J] of the committed state.
+    pub fn strain_energy(&self) -> f64 {
+        self.strain_energy_at(&self.q)
+    }
+
+    /// Kinetic energy [J] at full coordinates `q` (rotation vectors in the chart of the stored
+    /// orientations) and rates `v` (body angular velocities).
+    fn kinetic_energy_at(&self, q: &[f64], v: &[f64]) -> f64 {
         (0..self.elements.len())
             .map(|e| {
-                let (n, v) = self.element_state(e, &self.q, &self.v);
+                let (n, v) = self.element_state(e, q, v);
                 self.elements[e].kinetic_energy(&n, &v)
             })
             .sum()
     }
 
-    /// Gravity potential [J] of the committed state (relative to the origin).
-    pub fn potential_energy(&self) -> f64 {
+    /// Gravity potential [J] at full coordinates `q`.
+    fn potential_energy_at(&self, q: &[f64]) -> f64 {
         (0..self.elements.len())
             .map(|e| {
-                let (n, _) = self.element_state(e, &self.q, &self.v);
+                let (n, _) = self.element_state(e, q, &self.v);
                 self.elements[e].gravity_potential(&n, &self.gravity)
             })
             .sum()
     }
 
-    /// Strain energy [J] of the committed state.
-    pub fn strain_energy(&self) -> f64 {
+    /// Strain energy [J] at full coordinates `q`.
+    fn strain_energy_at(&self, q: &[f64]) -> f64 {
         (0..self.elements.len())
             .map(|e| {
-                let (n, _) = self.element_state(e, &self.q, &self.v);
+                let (n, _) = self.element_state(e, q, &self.v);
                 self.elements[e].strain_energy(&n)
             })
             .sum()
+    }
+
+    /// Time derivative of an output of the committed state: positions, velocities, angular
+    /// velocities and direction cosines analytically (`ẋ`, `ẍ`, `R Ẇ`, `ω × t`); the rotation
+    /// vector φ by `φ̇ = T_s(φ)⁻¹ ω` (not defined within 1e-6 rad of |φ| = π, where the
+    /// principal value jumps: `None`); energies along the motion ([`rates::along_motion`]).
+    fn output_rate(&self, kind: Output) -> Option<f64> {
+        let energy = |f: &dyn Fn(&[f64], &[f64]) -> f64| {
+            let mut work = [Vec::new(), Vec::new()];
+            rates::along_motion(&self.q, &self.v, &self.acc, &mut work, f)
+        };
+        match kind {
+            Output::Probe { probe, quantity } => {
+                let p = &self.probes[probe];
+                let b = p.node * NODE_DOFS;
+                let r = self.node_rotation(p.node);
+                let omega = r * self.node_angular_velocity(p.node);
+                let v3 = |x: &[f64], i: usize| Vector3::new(x[i], x[i + 1], x[i + 2]);
+                use ProbeQuantity::*;
+                let (vec, axis) = match quantity {
+                    X | Y | Z => (v3(&self.v, b), [X, Y, Z]),
+                    Vx | Vy | Vz => (v3(&self.acc, b), [Vx, Vy, Vz]),
+                    Wx | Wy | Wz => (r * v3(&self.acc, b + 3), [Wx, Wy, Wz]),
+                    Tx | Ty | Tz => (omega.cross(&(r * p.tangent)), [Tx, Ty, Tz]),
+                    Rx | Ry | Rz => {
+                        let phi = UnitQuaternion::from_matrix(&r).scaled_axis();
+                        if phi.norm() > std::f64::consts::PI - 1e-6 {
+                            return None;
+                        }
+                        (tangent_spatial_inv(&phi) * omega, [Rx, Ry, Rz])
+                    }
+                };
+                Some(vec[axis.iter().position(|x| *x == quantity).unwrap_or(0)])
+            }
+            Output::Energy(k) => Some(match k {
+                EnergyKind::Kinetic => energy(&|q, v| self.kinetic_energy_at(q, v)),
+                EnergyKind::Potential => energy(&|q, _| self.potential_energy_at(q)),
+                EnergyKind::Strain => energy(&|q, _| self.strain_energy_at(q)),
+                EnergyKind::Total => energy(&|q, v| {
+                    self.kinetic_energy_at(q, v)
+                        + self.potential_energy_at(q)
+                        + self.strain_energy_at(q)
+                }),
+            }),
+        }
+    }
+
+    /// The signal of a load or moment input.
+    fn input_signal(&mut self, input: usize) -> &mut InputSignal {
+        match self.roles.inputs[input] {
+            Input::Load { load, axis } => &mut self.loads[load].values[axis],
+            Input::Moment { load, axis } => &mut self.loads[load].values[3 + axis],
+        }
     }
 
     /// Linear momentum `∂T/∂ẋ` summed over the nodes [kg m/s] of the committed state.
@@ -431,10 +508,11 @@ impl Beam3d {
         }
     }
 
-    /// Residual and iteration matrix of the configuration in `self.qw`, rates in `self.vw`,
-    /// `self.aw`; the stiffness part of the iteration matrix is scaled by `k_scale`.
+    /// Residual and iteration matrix at time `t` [s] (load signals) of the configuration in
+    /// `self.qw`, rates in `self.vw`, `self.aw`; the stiffness part of the iteration matrix is scaled by `k_scale`.
     fn assemble(
         &mut self,
+        t: f64,
         lambda: f64,
         k_scale: f64,
         r: &mut [f64],
@@ -495,8 +573,9 @@ impl Beam3d {
         for l in &self.loads {
             let b = l.node * NODE_DOFS;
             let rot = &self.rot[l.node];
-            let force = Vector3::new(l.values[0], l.values[1], l.values[2]) * lambda;
-            let moment = Vector3::new(l.values[3], l.values[4], l.values[5]) * lambda;
+            let at = |i: usize| l.values[i].at(t) * lambda;
+            let force = Vector3::new(at(0), at(1), at(2));
+            let moment = Vector3::new(at(3), at(4), at(5));
             // Residual −f_ext; `blk` = ∂(−f_ext)/∂W (body spin) for the rows x or θ.
             let (fx, mb, blk, rows) = if l.follower {
                 let fx = rot * force;
@@ -509,15 +588,14 @@ impl Beam3d {
                 fw[b + c] -= fx[c];
                 fw[b + 3 + c] -= mb[c];
             }
-            if let Some((c, vals)) = jac.as_mut() {
-                if force != Vector3::zeros() && l.follower
-                    || moment != Vector3::zeros() && !l.follower
-                {
-                    let d = blk * self.tan[l.node] * (c.stiffness * k_scale);
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            self.asm.add_entry(b + rows + i, b + 3 + j, d[(i, j)], vals);
-                        }
+            if let Some((c, vals)) = jac.as_mut()
+                && (force != Vector3::zeros() && l.follower
+                    || moment != Vector3::zeros() && !l.follower)
+            {
+                let d = blk * self.tan[l.node] * (c.stiffness * k_scale);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        self.asm.add_entry(b + rows + i, b + 3 + j, d[(i, j)], vals);
                     }
                 }
             }
@@ -527,10 +605,10 @@ impl Beam3d {
         if r.iter().any(|x| !x.is_finite()) {
             return Err(ModelError::NonFinite);
         }
-        if let Some((_, vals)) = jac {
-            if vals.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::NonFinite);
-            }
+        if let Some((_, vals)) = jac
+            && vals.iter().any(|x| !x.is_finite())
+        {
+            return Err(ModelError::NonFinite);
         }
         Ok(())
     }
@@ -546,7 +624,7 @@ impl Beam3d {
         let mut r = vec![0.0; n];
         let mut dense = |c: JacobianCoeffs, s: &mut Self| {
             let mut vals = vec![0.0; s.asm.pattern.nnz()];
-            s.residual(0.0, &q, &zeros, &zeros, 0.0, &mut r, Some((c, &mut vals)))
+            s.residual(s.t, &q, &zeros, &zeros, 0.0, &mut r, Some((c, &mut vals)))
                 .expect("finite");
             let p = &s.asm.pattern;
             let mut m = nalgebra::DMatrix::zeros(n, n);
@@ -579,14 +657,29 @@ impl Beam3d {
 
 impl Model for Beam3d {
     fn set_input(&mut self, input: usize, value: f64) {
-        match self.roles.inputs[input] {
-            Input::Load { load, axis } => self.loads[load].values[axis] = value,
-            Input::Moment { load, axis } => self.loads[load].values[3 + axis] = value,
+        let t = self.t;
+        self.input_signal(input).set(value, t);
+    }
+
+    fn set_input_derivative(
+        &mut self,
+        input: usize,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String> {
+        if !(1..=2).contains(&order) {
+            return Err(format!("derivative order {order} not supported (1 or 2)"));
         }
+        self.input_signal(input).set_derivative(order, value);
+        Ok(())
     }
 
     fn output(&self, output: usize) -> f64 {
         self.output_of(self.roles.outputs[output])
+    }
+
+    fn output_derivative(&self, output: usize) -> Option<f64> {
+        self.output_rate(self.roles.outputs[output])
     }
 
     fn accept(&mut self, state: &mut DynState) {
@@ -596,6 +689,8 @@ impl Model for Beam3d {
         self.asm.dofs.restrict(&q, &mut state.q);
         self.q = q;
         self.asm.dofs.expand(&state.v, &mut self.v);
+        self.asm.dofs.expand(&state.acc, &mut self.acc);
+        self.t = state.t;
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
@@ -603,10 +698,13 @@ impl Model for Beam3d {
         self.asm.dofs.restrict(&self.v, v);
     }
 
-    /// Committed coordinates and velocities, nodal orientations (quaternions) and loads.
+    /// Committed time, coordinates, velocities and accelerations, nodal orientations
+    /// (quaternions) and load signals.
     fn save(&self, w: &mut StateWriter) -> Result<(), String> {
+        w.f64(self.t);
         w.f64s(&self.q);
         w.f64s(&self.v);
+        w.f64s(&self.acc);
         let quats: Vec<f64> = self
             .r_ref
             .iter()
@@ -616,16 +714,18 @@ impl Model for Beam3d {
             })
             .collect();
         w.f64s(&quats);
-        for l in &self.loads {
-            w.f64s(&l.values);
+        for sig in self.loads.iter().flat_map(|l| &l.values) {
+            sig.save(w);
         }
         Ok(())
     }
 
     fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
         let e = |e: crate::snapshot::SnapshotError| e.to_string();
+        self.t = r.f64().map_err(e)?;
         r.f64s_into(&mut self.q).map_err(e)?;
         r.f64s_into(&mut self.v).map_err(e)?;
+        r.f64s_into(&mut self.acc).map_err(e)?;
         let quats = r.f64s(Some(4 * self.r_ref.len())).map_err(e)?;
         for (k, c) in quats.chunks(4).enumerate() {
             let q = nalgebra::Quaternion::new(c[3], c[0], c[1], c[2]);
@@ -634,8 +734,8 @@ impl Model for Beam3d {
             }
             self.r_ref[k] = UnitQuaternion::new_unchecked(q);
         }
-        for l in self.loads.iter_mut() {
-            r.f64s_into(&mut l.values).map_err(e)?;
+        for sig in self.loads.iter_mut().flat_map(|l| &mut l.values) {
+            *sig = InputSignal::restore(r).map_err(e)?;
         }
         Ok(())
     }
@@ -656,7 +756,7 @@ impl MechanicalSystem for Beam3d {
 
     fn residual(
         &mut self,
-        _t: f64,
+        t: f64,
         q: &[f64],
         v: &[f64],
         a: &[f64],
@@ -667,7 +767,7 @@ impl MechanicalSystem for Beam3d {
         self.asm.dofs.expand(q, &mut self.qw);
         self.asm.dofs.expand(v, &mut self.vw);
         self.asm.dofs.expand(a, &mut self.aw);
-        self.assemble(load_factor, 1.0, r, jac)
+        self.assemble(t, load_factor, 1.0, r, jac)
     }
 
     /// Implicit midpoint rule: the residual at the mean configuration `(q_a + q_b)/2` (in the
@@ -677,8 +777,8 @@ impl MechanicalSystem for Beam3d {
     /// the coordinates) it is second order but not exactly energy conserving.
     fn midpoint_residual(
         &mut self,
-        _t_a: f64,
-        _t_b: f64,
+        t_a: f64,
+        t_b: f64,
         q_a: &[f64],
         q_b: &[f64],
         v: &[f64],
@@ -694,7 +794,7 @@ impl MechanicalSystem for Beam3d {
         self.qmid = qm;
         self.asm.dofs.expand(v, &mut self.vw);
         self.asm.dofs.expand(a, &mut self.aw);
-        self.assemble(1.0, 0.5, r, jac)
+        self.assemble(0.5 * (t_a + t_b), 1.0, 0.5, r, jac)
     }
 
     fn rebase(&mut self, q: &mut [f64]) {

@@ -5,6 +5,7 @@ pub mod belt_drive;
 pub mod corot3d;
 mod factory;
 pub mod inputs;
+pub mod rates;
 mod system;
 
 pub use factory::build_model;
