@@ -741,7 +741,7 @@ impl Instance {
 
     /// The capability flags of this FMU.
     pub fn capabilities(&self) -> crate::model_description::Capabilities {
-        crate::model_description::capabilities(self.scene.kind)
+        self.scene.body.capabilities()
     }
 
     /// A capability this FMU does not have (yet): error with a clear message.

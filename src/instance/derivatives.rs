@@ -20,7 +20,7 @@ use crate::variables::{Causality, Role, Value, VarType};
 const FD_REL: f64 = 1e-6;
 
 impl Instance {
-    fn real_output(&mut self, call: Call, vr: u32) -> Result<crate::variables::OutputKind, Status> {
+    fn real_output(&mut self, call: Call, vr: u32) -> Result<usize, Status> {
         match self.vars.get(vr).map(|v| (v.ty, v.role)) {
             Some((VarType::Real, Role::Output(k))) => Ok(k),
             Some(_) => {

@@ -21,16 +21,17 @@ use crate::elements::ancf_cable2d::{self, AncfCable2d, CableRule, CableSection, 
 use crate::elements::ancf_shear2d::{self, AncfShear2d, Section, ShearRule};
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::integrators::DynState;
+use crate::kinds::KindIo;
+use crate::kinds::belt_drive::scene::{BeltOutput, Input, Output, PulleyInput};
+use crate::kinds::belt_drive::{BeltDriveScene, PulleyMode};
+use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
-use crate::scene::SceneFile;
-use crate::scene::file::PulleyMode;
 use crate::scene::params::{
     ParamValues,
     names::{GRAVITY_X, GRAVITY_Y},
 };
 use crate::snapshot::{StateReader, StateWriter};
 use crate::solver::simulation::SolverConfig;
-use crate::variables::{BeltOutput, EnergyKind, InputKind, OutputKind, PulleyInput};
 use nalgebra::{SMatrix, Vector2};
 
 const NONE: u32 = u32::MAX;
@@ -325,6 +326,9 @@ pub struct PreloadReport {
 #[derive(Clone, Debug)]
 pub struct BeltDrive {
     spec: BeltSpec,
+    /// What each input and output of the scene means, by index (empty for a model built
+    /// from a [`BeltSpec`] without a scene: drive it with the typed methods).
+    roles: KindIo<Input, Output>,
     element: Element,
     mass_e: ElemMat,
     n_el: usize,
@@ -501,6 +505,7 @@ impl BeltDrive {
             .collect();
         let n_cp = spec.points_per_element.max(1);
         let mut me = Self {
+            roles: KindIo::default(),
             mass_e: element.mass(),
             element,
             n_el,
@@ -543,8 +548,8 @@ impl BeltDrive {
     }
 
     /// Builds the model of a belt-drive scene with validated parameter values.
-    pub fn build(scene: &SceneFile, p: &ParamValues) -> Result<Self, String> {
-        use crate::scene::belt_drive::{names::*, *};
+    pub fn build(scene: &BeltDriveScene, p: &ParamValues) -> Result<Self, String> {
+        use crate::kinds::belt_drive::scene::{names::*, *};
         let rule = match p.integer(BELT_INTEGRATION) {
             2 => CableRule::Reduced,
             3 => CableRule::Mixed,
@@ -632,6 +637,7 @@ impl BeltDrive {
             drive.io[i].omega_in = s.omega;
             drive.io[i].torque_in = s.torque_in;
         }
+        drive.roles = io(scene);
         Ok(drive)
     }
 
@@ -1126,10 +1132,33 @@ impl BeltDrive {
             / self.n_nodes as f64
     }
 
-    fn output_of(&self, kind: OutputKind) -> f64 {
+    /// Sets a pulley input (the typed form of `Model::set_input`).
+    pub fn set_pulley_input(&mut self, pulley: usize, quantity: PulleyInput, value: f64) {
+        if quantity == PulleyInput::Angle
+            && self.t0_step.is_none()
+            && self.spec.pulleys[pulley].kind == PulleyKind::Driven
+            && value.is_finite()
+        {
+            let pd = self.pulley_dof[pulley];
+            let turn = value - self.q[pd];
+            let np = self.circles.len();
+            for h in self.hist.iter_mut().skip(pulley).step_by(np) {
+                h.theta += turn;
+            }
+            self.q[pd] = value;
+        }
+        let io = &mut self.io[pulley];
+        match quantity {
+            PulleyInput::Angle => io.angle_in = value,
+            PulleyInput::Omega => io.omega_in = value,
+            PulleyInput::Torque => io.torque_in = value,
+        }
+    }
+
+    /// An output of the committed state.
+    pub fn output_of(&self, kind: Output) -> f64 {
         match kind {
-            OutputKind::Reaction { .. } => unreachable!("belt scenes declare no motion ports"),
-            OutputKind::Belt(b) => match b {
+            Output::Belt(b) => match b {
                 BeltOutput::PulleyTorque(k) => self.io[k].torque,
                 BeltOutput::PulleyForceX(k) => self.io[k].force.x,
                 BeltOutput::PulleyForceY(k) => self.io[k].force.y,
@@ -1155,7 +1184,7 @@ impl BeltDrive {
                 BeltOutput::InputWork => self.energy.input_work,
                 BeltOutput::Dissipated => self.energy.dissipated,
             },
-            OutputKind::Energy(k) => match k {
+            Output::Energy(k) => match k {
                 EnergyKind::Kinetic => self.kinetic_energy(),
                 EnergyKind::Strain => self.strain_energy(),
                 EnergyKind::Potential => self.potential_energy(),
@@ -1163,7 +1192,6 @@ impl BeltDrive {
                     self.kinetic_energy() + self.strain_energy() + self.potential_energy()
                 }
             },
-            OutputKind::Probe { .. } => f64::NAN,
         }
     }
 
@@ -1180,32 +1208,13 @@ impl Model for BeltDrive {
     /// Before the first communication step the angle of a driven pulley is where the master's
     /// rigid body starts: the pulley is turned there under the belt without slip (a pulley's
     /// absolute angle means nothing to the belt; only its rotation during the run does).
-    fn set_input(&mut self, kind: InputKind, value: f64) {
-        if let InputKind::Pulley { pulley, quantity } = kind {
-            if quantity == PulleyInput::Angle
-                && self.t0_step.is_none()
-                && self.spec.pulleys[pulley].kind == PulleyKind::Driven
-                && value.is_finite()
-            {
-                let pd = self.pulley_dof[pulley];
-                let turn = value - self.q[pd];
-                let np = self.circles.len();
-                for h in self.hist.iter_mut().skip(pulley).step_by(np) {
-                    h.theta += turn;
-                }
-                self.q[pd] = value;
-            }
-            let io = &mut self.io[pulley];
-            match quantity {
-                PulleyInput::Angle => io.angle_in = value,
-                PulleyInput::Omega => io.omega_in = value,
-                PulleyInput::Torque => io.torque_in = value,
-            }
-        }
+    fn set_input(&mut self, input: usize, value: f64) {
+        let Input::Pulley { pulley, quantity } = self.roles.inputs[input];
+        self.set_pulley_input(pulley, quantity, value);
     }
 
-    fn output(&self, kind: OutputKind) -> f64 {
-        self.output_of(kind)
+    fn output(&self, output: usize) -> f64 {
+        self.output_of(self.roles.outputs[output])
     }
 
     fn accept(&mut self, state: &mut DynState) {
@@ -1225,7 +1234,7 @@ impl Model for BeltDrive {
 
     /// Pulley angles, speeds and torques are smooth signals set at every communication step:
     /// the integrator keeps its accelerations.
-    fn input_restarts_accelerations(&self, _kind: InputKind) -> bool {
+    fn input_restarts_accelerations(&self, _input: usize) -> bool {
         false
     }
 
@@ -1410,10 +1419,10 @@ mod tests {
     fn running(steps: usize, h: f64) -> (BeltDrive, DynState) {
         let (scene, mut p) = shipped();
         p.set(
-            crate::scene::belt_drive::names::BELT_N_ELEMENTS,
+            crate::kinds::belt_drive::scene::names::BELT_N_ELEMENTS,
             crate::variables::Value::Integer(24),
         );
-        let mut m = BeltDrive::build(&scene.file, &p).unwrap();
+        let mut m = BeltDrive::build(scene.tables().unwrap(), &p).unwrap();
         let mut cfg = SolverConfig::from_params(&p);
         // the state this test checks the Jacobian in was chosen with full Newton
         cfg.newton.policy = crate::solver::newton::NewtonPolicy::Full;
@@ -1423,34 +1432,16 @@ mod tests {
         m.free_state(&mut s0.q, &mut s0.v);
         let mut s1 = s0.clone();
         let ga = GeneralizedAlpha::from_rho_inf(0.8);
-        m.set_input(
-            InputKind::Pulley {
-                pulley: 1,
-                quantity: PulleyInput::Torque,
-            },
-            -20.0,
-        );
+        m.set_pulley_input(1, PulleyInput::Torque, -20.0);
         for i in 0..steps {
             let t = i as f64 * h;
-            m.set_input(
-                InputKind::Pulley {
-                    pulley: 0,
-                    quantity: PulleyInput::Omega,
-                },
-                200.0 * t,
-            );
+            m.set_pulley_input(0, PulleyInput::Omega, 200.0 * t);
             m.begin_communication_step(t, t + h);
             ga.step(&mut m, &mut ws, &cfg.newton, &s0, h, &mut s1)
                 .unwrap_or_else(|e| panic!("step {i}: {e}"));
             m.accept(&mut s1);
             std::mem::swap(&mut s0, &mut s1);
-            m.set_input(
-                InputKind::Pulley {
-                    pulley: 0,
-                    quantity: PulleyInput::Angle,
-                },
-                100.0 * (t + h).powi(2),
-            );
+            m.set_pulley_input(0, PulleyInput::Angle, 100.0 * (t + h).powi(2));
         }
         (m, s0)
     }

@@ -28,12 +28,14 @@ use crate::elements::corotational3d::{
 };
 use crate::elements::rotation::{exp_so3, skew, tangent_body};
 use crate::integrators::DynState;
+use crate::kinds::KindIo;
+use crate::kinds::beam_3d::scene::{Input, Output, io, names::*};
+use crate::kinds::beam_3d::{Beam3dScene, CentrelineSection};
+use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
-use crate::scene::corot3d::names::*;
-use crate::scene::file::{CentrelineSection, ProbeQuantity, SceneFile, SupportKind};
 use crate::scene::params::{ParamValues, names::*};
+use crate::scene::tables::{ProbeQuantity, SupportKind};
 use crate::snapshot::{StateReader, StateWriter};
-use crate::variables::{EnergyKind, InputKind, OutputKind};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Reference nodes of a centre line.
@@ -181,7 +183,7 @@ struct NodeProbe {
 
 /// The seed-003 3D beam model.
 #[derive(Clone, Debug)]
-pub struct Corot3dModel {
+pub struct Beam3d {
     length: f64,
     elements: Vec<Corot3d>,
     r_ref: Vec<UnitQuaternion<f64>>,
@@ -201,13 +203,15 @@ pub struct Corot3dModel {
     qmid: Vec<f64>,
     rot: Vec<Matrix3<f64>>,
     tan: Vec<Matrix3<f64>>,
+    /// What each input and output means, by index.
+    roles: KindIo<Input, Output>,
 }
 
-impl Corot3dModel {
+impl Beam3d {
     /// Builds the model of a scene with the given parameter values (already validated).
     /// Errors name the scene key or parameter at fault.
-    pub fn build(scene: &SceneFile, p: &ParamValues) -> Result<Self, String> {
-        let c = scene.centreline.as_ref().ok_or("[centreline] missing")?;
+    pub fn build(scene: &Beam3dScene, p: &ParamValues) -> Result<Self, String> {
+        let c = &scene.centreline;
         let n_el = p.integer(MESH_N_ELEMENTS) as usize;
         let section = BeamSection {
             ea: p.real(SECTION_EA),
@@ -346,6 +350,7 @@ impl Corot3dModel {
             qmid: vec![0.0; n_free],
             rot: vec![Matrix3::identity(); n_nodes],
             tan: vec![Matrix3::identity(); n_nodes],
+            roles: io(scene),
         })
     }
 
@@ -456,9 +461,9 @@ impl Corot3dModel {
         h
     }
 
-    fn output_of(&self, kind: OutputKind) -> f64 {
+    fn output_of(&self, kind: Output) -> f64 {
         match kind {
-            OutputKind::Probe { probe, quantity } => {
+            Output::Probe { probe, quantity } => {
                 let p = &self.probes[probe];
                 let b = p.node * NODE_DOFS;
                 let r = || self.node_rotation(p.node);
@@ -493,10 +498,7 @@ impl Corot3dModel {
                     }
                 }
             }
-            OutputKind::Reaction { .. } | OutputKind::Belt(_) => {
-                unreachable!("3D beam scenes declare no motion ports and no pulleys")
-            }
-            OutputKind::Energy(k) => match k {
+            Output::Energy(k) => match k {
                 EnergyKind::Kinetic => self.kinetic_energy(),
                 EnergyKind::Potential => self.potential_energy(),
                 EnergyKind::Strain => self.strain_energy(),
@@ -667,19 +669,16 @@ impl Corot3dModel {
     }
 }
 
-impl Model for Corot3dModel {
-    fn set_input(&mut self, kind: InputKind, value: f64) {
-        match kind {
-            InputKind::Load { load, axis } => self.loads[load].values[axis] = value,
-            InputKind::Moment { load, axis } => self.loads[load].values[3 + axis] = value,
-            InputKind::Motion { .. } | InputKind::Pulley { .. } => {
-                unreachable!("3D beam scenes declare no motion ports and no pulleys")
-            }
+impl Model for Beam3d {
+    fn set_input(&mut self, input: usize, value: f64) {
+        match self.roles.inputs[input] {
+            Input::Load { load, axis } => self.loads[load].values[axis] = value,
+            Input::Moment { load, axis } => self.loads[load].values[3 + axis] = value,
         }
     }
 
-    fn output(&self, kind: OutputKind) -> f64 {
-        self.output_of(kind)
+    fn output(&self, output: usize) -> f64 {
+        self.output_of(self.roles.outputs[output])
     }
 
     fn accept(&mut self, state: &mut DynState) {
@@ -734,7 +733,7 @@ impl Model for Corot3dModel {
     }
 }
 
-impl MechanicalSystem for Corot3dModel {
+impl MechanicalSystem for Beam3d {
     fn n_free(&self) -> usize {
         self.asm.dofs.n_free()
     }

@@ -8,7 +8,6 @@ use crate::linalg::SolverKind;
 use crate::model::{JacobianCoeffs, Model};
 use crate::scene::params::{ParamValues, names::*};
 use crate::snapshot::{StateReader, StateWriter};
-use crate::variables::{InputKind, OutputKind};
 
 /// Substeps may be halved this many times below `solver.max_step` before a communication step
 /// is given up.
@@ -244,10 +243,11 @@ impl Simulation {
         Ok(())
     }
 
-    /// Sets an input; takes effect at the next advance (held constant over it).
-    pub fn set_input(&mut self, kind: InputKind, value: f64) {
-        self.model.set_input(kind, value);
-        if self.model.input_restarts_accelerations(kind) {
+    /// Sets input `input` (index among the scene's inputs); takes effect at the next advance
+    /// (held constant over it).
+    pub fn set_input(&mut self, input: usize, value: f64) {
+        self.model.set_input(input, value);
+        if self.model.input_restarts_accelerations(input) {
             self.inputs_changed = true;
         }
     }
@@ -257,9 +257,19 @@ impl Simulation {
         self.state.t
     }
 
-    /// An output of the current state.
-    pub fn output(&self, kind: OutputKind) -> f64 {
-        self.model.output(kind)
+    /// Output `output` (index among the scene's outputs) of the current state.
+    pub fn output(&self, output: usize) -> f64 {
+        self.model.output(output)
+    }
+
+    /// The model, if it is of type `T` (tests and tools that use a model's typed methods).
+    pub fn model_as_mut<T: Model>(&mut self) -> Option<&mut T> {
+        (self.model.as_mut() as &mut dyn std::any::Any).downcast_mut::<T>()
+    }
+
+    /// The model, if it is of type `T`.
+    pub fn model_as<T: Model>(&self) -> Option<&T> {
+        (self.model.as_ref() as &dyn std::any::Any).downcast_ref::<T>()
     }
 
     /// Work counters so far.
@@ -288,7 +298,7 @@ impl Simulation {
     /// Sets an input time derivative (for extrapolation inside the next step).
     pub fn set_input_derivative(
         &mut self,
-        kind: InputKind,
+        kind: usize,
         order: usize,
         value: f64,
     ) -> Result<(), String> {
@@ -298,12 +308,12 @@ impl Simulation {
     }
 
     /// First time derivative of an output, if the model provides it.
-    pub fn output_derivative(&self, kind: OutputKind) -> Option<f64> {
+    pub fn output_derivative(&self, kind: usize) -> Option<f64> {
         self.model.output_derivative(kind)
     }
 
     /// ∂output/∂input with the state frozen, if the model provides it analytically.
-    pub fn output_input_derivative(&mut self, output: OutputKind, input: InputKind) -> Option<f64> {
+    pub fn output_input_derivative(&mut self, output: usize, input: usize) -> Option<f64> {
         self.model.output_input_derivative(output, input)
     }
 
@@ -314,8 +324,8 @@ impl Simulation {
     /// The simulation is unchanged afterwards.
     pub fn linearized_output_response(
         &mut self,
-        du: &[(InputKind, f64, f64)],
-        outputs: &[OutputKind],
+        du: &[(usize, f64, f64)],
+        outputs: &[usize],
     ) -> Result<Vec<f64>, String> {
         let mut backup = StateWriter::new();
         self.save(&mut backup)?;
@@ -326,8 +336,8 @@ impl Simulation {
 
     fn linearized_inner(
         &mut self,
-        du: &[(InputKind, f64, f64)],
-        outputs: &[OutputKind],
+        du: &[(usize, f64, f64)],
+        outputs: &[usize],
     ) -> Result<Vec<f64>, String> {
         let n = self.state.q.len();
         // Step along the seed: small against every input it touches.
@@ -634,7 +644,6 @@ mod tests {
     use crate::integrators::GeneralizedAlpha;
     use crate::linalg::CscPattern;
     use crate::model::{MechanicalSystem, ModelError};
-    use crate::variables::{EnergyKind, OutputKind};
 
     /// A unit mass on a unit spring whose force evaluation breaks down after `t_fail`.
     struct Oscillator {
@@ -690,8 +699,8 @@ mod tests {
     }
 
     impl Model for Oscillator {
-        fn set_input(&mut self, _k: InputKind, _v: f64) {}
-        fn output(&self, _k: OutputKind) -> f64 {
+        fn set_input(&mut self, _k: usize, _v: f64) {}
+        fn output(&self, _k: usize) -> f64 {
             self.q
         }
         fn accept(&mut self, s: &mut DynState) {
@@ -735,7 +744,7 @@ mod tests {
     fn oscillator_follows_cos_t() {
         let mut s = sim(f64::INFINITY);
         s.advance(1.0).unwrap();
-        let q = s.output(OutputKind::Energy(EnergyKind::Total));
+        let q = s.output(0);
         assert!((q - 1f64.cos()).abs() < 1e-4, "{q} vs {}", 1f64.cos());
         assert_eq!(s.time(), 1.0);
     }
@@ -751,7 +760,7 @@ mod tests {
             err.reached
         );
         assert_eq!(s.time(), err.reached);
-        let q = s.output(OutputKind::Energy(EnergyKind::Total));
+        let q = s.output(0);
         assert!((q - err.reached.cos()).abs() < 1e-4);
         assert!(err.message.contains("non-finite"), "{}", err.message);
     }

@@ -1,40 +1,62 @@
-//! Scene kind "planar beam" (seed-000 elements): required tables, parameters, inputs and
-//! outputs.
+//! Kind `beam_2d`: checks of the tables, parameters, inputs and outputs, and what each input
+//! and output means to the model.
 
-use super::file::{ProbeQuantity, SceneFile, SupportKind};
-use super::params::{Check, ParamDef, int_param, names::*};
-use super::validate::{
-    check_fraction, check_identifier, reject_present, reject_repeated, require_tables,
-};
-use crate::variables::{EnergyKind, InputKind, IoVariable, OutputKind, Value};
+use super::Beam2dScene;
+use crate::kinds::KindIo;
+use crate::kinds::energy::{BODY_ENERGIES, EnergyKind, declare_energy_outputs};
+use crate::scene::params::{Check, ParamDef, gravity_params_2d, int_param, names::*};
+use crate::scene::tables::{ProbeQuantity, SupportKind};
+use crate::scene::validate::{check_fraction, check_identifier, reject_repeated};
+use crate::units::Unit;
+use crate::variables::Value;
+
+/// What an input of a planar beam drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Input {
+    /// Component `axis` (0 = x, 1 = y) of the force of point load `load` [N].
+    Load {
+        /// Index into the scene's loads.
+        load: usize,
+        /// 0 = x, 1 = y.
+        axis: usize,
+    },
+    /// Prescribed motion of a port: `component` 0, 1 = position x, y [m]; 2, 3 = velocity
+    /// x, y [m/s].
+    Motion {
+        /// Index into the scene's motion ports.
+        port: usize,
+        /// 0 = x, 1 = y, 2 = vx, 3 = vy.
+        component: usize,
+    },
+}
+
+/// What an output of a planar beam reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// A probe quantity.
+    Probe {
+        /// Index into the scene's probes.
+        probe: usize,
+        /// Position or velocity component.
+        quantity: ProbeQuantity,
+    },
+    /// An energy.
+    Energy(EnergyKind),
+    /// Force exerted by the beam on whatever drives a motion port [N], component `axis`.
+    Reaction {
+        /// Index into the scene's motion ports.
+        port: usize,
+        /// 0 = x, 1 = y.
+        axis: usize,
+    },
+}
 
 /// Problems of a planar-beam scene: required tables, supports, loads, probes.
-pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
+pub fn check(s: &Beam2dScene) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
-    require_tables(
-        &[
-            ("mesh", s.mesh.is_some()),
-            ("geometry", s.geometry.is_some()),
-            ("material", s.material.is_some()),
-        ],
-        "element type \"ancf_shear_2d\"",
-        &mut errs,
-    );
-    reject_present(
-        &[
-            ("[section]", s.section.is_some()),
-            ("[centreline]", s.centreline.is_some()),
-            ("element.theory", s.element.theory.is_some()),
-            ("element.mass", s.element.mass.is_some()),
-            ("gravity.z", s.gravity.as_ref().is_some_and(|g| g.z != 0.0)),
-        ],
-        "only for 3D element types (\"corotational_3d\"), not for \"ancf_shear_2d\"",
-        &mut errs,
-    );
-    if let Some(g) = &s.geometry {
-        if !g.origin.iter().all(|v| v.is_finite()) || !g.angle_deg.is_finite() {
-            errs.push("geometry.origin / geometry.angle_deg: must be finite numbers".into());
-        }
+    let g = &s.geometry;
+    if !g.origin.iter().all(|v| v.is_finite()) || !g.angle_deg.is_finite() {
+        errs.push("geometry.origin / geometry.angle_deg: must be finite numbers".into());
     }
     let at_ok =
         |key: String, at: f64, errs: &mut Vec<String>| check_fraction(&key, at, "the length", errs);
@@ -60,11 +82,6 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
         if !l.fx.is_finite() || !l.fy.is_finite() {
             errs.push(format!("{key}: fx and fy must be finite"));
         }
-        if l.fz != 0.0 || l.mx != 0.0 || l.my != 0.0 || l.mz != 0.0 || l.follower {
-            errs.push(format!(
-                "{key}: fz, mx, my, mz and follower are for 3D element types only"
-            ));
-        }
     }
     for (i, m) in s.motions.iter().enumerate() {
         let key = format!("motions[{i}]");
@@ -82,7 +99,7 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
         }
         for q in p.outputs.iter().filter(|q| !q.is_planar()) {
             errs.push(format!(
-                "{key}.outputs: {q:?} is for 3D element types only; planar probes give x, y, vx, vy"
+                "{key}.outputs: {q:?} is for 3D beams only; planar probes give x, y, vx, vy"
             ));
         }
         reject_repeated(&key, &p.outputs, &mut errs);
@@ -91,53 +108,49 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
 }
 
 /// Parameters of a planar-beam scene (the tables exist: [`check`] passed).
-pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
-    let (m, g, mesh) = (
-        s.material.as_ref().ok_or("[material] missing")?,
-        s.geometry.as_ref().ok_or("[geometry] missing")?,
-        s.mesh.as_ref().ok_or("[mesh] missing")?,
-    );
+pub fn params(s: &Beam2dScene) -> Result<Vec<ParamDef>, String> {
+    let (m, g, mesh) = (&s.material, &s.geometry, &s.mesh);
     let real = |v: f64| Value::Real(v);
     let mut defs = vec![
         ParamDef::new(
             MATERIAL_E,
             real(m.E),
-            Some("Pa"),
+            Some(Unit::Pa),
             "Young's modulus",
             Check::Positive,
         ),
         ParamDef::new(
             MATERIAL_NU,
             real(m.nu),
-            Some("1"),
+            Some(Unit::One),
             "Poisson's ratio, in (-1, 0.5)",
             Check::Open(-1.0, 0.5),
         ),
         ParamDef::new(
             MATERIAL_RHO,
             real(m.rho),
-            Some("kg/m3"),
+            Some(Unit::KgPerM3),
             "Density",
             Check::Positive,
         ),
         ParamDef::new(
             GEOMETRY_LENGTH,
             real(g.length),
-            Some("m"),
+            Some(Unit::M),
             "Undeformed length",
             Check::Positive,
         ),
         ParamDef::new(
             GEOMETRY_WIDTH,
             real(g.width),
-            Some("m"),
+            Some(Unit::M),
             "Cross-section width (out of plane)",
             Check::Positive,
         ),
         ParamDef::new(
             GEOMETRY_HEIGHT,
             real(g.height),
-            Some("m"),
+            Some(Unit::M),
             "Cross-section height",
             Check::Positive,
         ),
@@ -165,7 +178,7 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
         ParamDef::new(
             ELEMENT_SHEAR_COEFFICIENT,
             real(s.element.shear_coefficient),
-            Some("1"),
+            Some(Unit::One),
             "Shear correction factor k_s of Eq. 12",
             Check::Positive,
         ),
@@ -174,50 +187,50 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
         defs.push(ParamDef::new(
             INITIAL_ANGULAR_VELOCITY,
             real(init.angular_velocity),
-            Some("rad/s"),
+            Some(Unit::RadPerS),
             "Initial rigid rotation of the body about its first end, counter-clockwise",
             Check::Finite,
         ));
     }
+    defs.extend(gravity_params_2d(s.gravity.as_ref()));
     Ok(defs)
 }
 
-/// Inputs (load components) and outputs (probe quantities, energies) of a planar-beam scene.
-pub fn io(s: &SceneFile) -> Vec<IoVariable> {
-    let mut out = Vec::new();
+/// Inputs (load components, motion ports) and outputs (reactions, probe quantities, energies)
+/// of a planar-beam scene.
+pub fn io(s: &Beam2dScene) -> KindIo<Input, Output> {
+    let mut io = KindIo::default();
     for (i, l) in s.loads.iter().enumerate() {
         for (axis, (comp, start)) in [("fx", l.fx), ("fy", l.fy)].into_iter().enumerate() {
-            out.push(IoVariable::input(
+            io.input(
                 format!("{}.{comp}", l.name),
                 start,
-                "N",
+                Unit::N,
                 format!(
                     "Force along {} at {} of the length (fixed direction)",
                     ["x", "y"][axis],
                     l.at
                 ),
-                InputKind::Load { load: i, axis },
-            ));
+                Input::Load { load: i, axis },
+            );
         }
     }
-    let geometry = s.geometry.as_ref();
+    let g = &s.geometry;
     for (port, m) in s.motions.iter().enumerate() {
         // Start values: the port's position in the reference configuration of the scene.
-        let (x0, y0) = geometry.map_or((0.0, 0.0), |g| {
-            let th = g.angle_deg.to_radians();
-            (
-                g.origin[0] + m.at * g.length * th.cos(),
-                g.origin[1] + m.at * g.length * th.sin(),
-            )
-        });
+        let th = g.angle_deg.to_radians();
+        let (x0, y0) = (
+            g.origin[0] + m.at * g.length * th.cos(),
+            g.origin[1] + m.at * g.length * th.sin(),
+        );
         let inputs = [
-            ("x", x0, "m", "Prescribed position x"),
-            ("y", y0, "m", "Prescribed position y"),
-            ("vx", 0.0, "m/s", "Prescribed velocity x"),
-            ("vy", 0.0, "m/s", "Prescribed velocity y"),
+            ("x", x0, Unit::M, "Prescribed position x"),
+            ("y", y0, Unit::M, "Prescribed position y"),
+            ("vx", 0.0, Unit::MPerS, "Prescribed velocity x"),
+            ("vy", 0.0, Unit::MPerS, "Prescribed velocity y"),
         ];
         for (component, (suffix, start, unit, what)) in inputs.into_iter().enumerate() {
-            out.push(IoVariable::input(
+            io.input(
                 format!("{}.{suffix}", m.name),
                 start,
                 unit,
@@ -225,75 +238,45 @@ pub fn io(s: &SceneFile) -> Vec<IoVariable> {
                     "{what} of the centre line at {} of the length (motion port; extrapolated inside a step with the velocity input)",
                     m.at
                 ),
-                InputKind::Motion { port, component },
-            ));
+                Input::Motion { port, component },
+            );
         }
         let (nx, ny) = (format!("{}.x", m.name), format!("{}.y", m.name));
         for (axis, suffix) in ["fx", "fy"].into_iter().enumerate() {
-            out.push(
-                IoVariable::output(
-                    format!("{}.{suffix}", m.name),
-                    "N",
-                    format!(
-                        "Force exerted by the beam on the body driving the motion port, {} component",
-                        ["x", "y"][axis]
-                    ),
-                    OutputKind::Reaction { port, axis },
-                )
-                .depending_on(&[&nx, &ny]),
-            );
+            io.output(
+                format!("{}.{suffix}", m.name),
+                Unit::N,
+                format!(
+                    "Force exerted by the beam on the body driving the motion port, {} component",
+                    ["x", "y"][axis]
+                ),
+                Output::Reaction { port, axis },
+            )
+            .depending_on(&[&nx, &ny]);
         }
     }
     for (i, p) in s.probes.iter().enumerate() {
         for q in &p.outputs {
             let (suffix, unit, what) = match q {
-                ProbeQuantity::X => ("x", "m", "Position x"),
-                ProbeQuantity::Y => ("y", "m", "Position y"),
-                ProbeQuantity::Vx => ("vx", "m/s", "Velocity x"),
-                ProbeQuantity::Vy => ("vy", "m/s", "Velocity y"),
+                ProbeQuantity::X => ("x", Unit::M, "Position x"),
+                ProbeQuantity::Y => ("y", Unit::M, "Position y"),
+                ProbeQuantity::Vx => ("vx", Unit::MPerS, "Velocity x"),
+                ProbeQuantity::Vy => ("vy", Unit::MPerS, "Velocity y"),
                 _ => continue, // rejected by `check`
             };
-            out.push(IoVariable::output(
+            io.output(
                 format!("{}.{suffix}", p.name),
                 unit,
                 format!("{what} of the centre line at {} of the length", p.at),
-                OutputKind::Probe {
+                Output::Probe {
                     probe: i,
                     quantity: *q,
                 },
-            ));
+            );
         }
     }
     if s.outputs.energy {
-        out.extend(energy_outputs());
+        declare_energy_outputs(&mut io, Output::Energy, &BODY_ENERGIES);
     }
-    out
-}
-
-/// `energy.kinetic`, `energy.potential`, `energy.strain`, `energy.total` [J].
-pub fn energy_outputs() -> Vec<IoVariable> {
-    [
-        (EnergyKind::Kinetic, "kinetic", "Kinetic energy 1/2 v^T M v"),
-        (
-            EnergyKind::Potential,
-            "potential",
-            "Gravity potential energy relative to y = 0 (-Q_g^T q)",
-        ),
-        (EnergyKind::Strain, "strain", "Strain energy U"),
-        (
-            EnergyKind::Total,
-            "total",
-            "Kinetic + potential + strain energy",
-        ),
-    ]
-    .into_iter()
-    .map(|(kind, name, what)| {
-        IoVariable::output(
-            format!("energy.{name}"),
-            "J",
-            what.into(),
-            OutputKind::Energy(kind),
-        )
-    })
-    .collect()
+    io
 }
