@@ -15,7 +15,7 @@ use std::path::Path;
 pub struct CheckSummary {
     /// Model name (`[fmu] model_name`).
     pub model_name: String,
-    /// Kind of body the scene models, in snake case (e.g. `belt_drive`).
+    /// Kind of body the scene models (e.g. `belt_drive`).
     pub kind: String,
     /// Number of FMU parameters.
     pub parameters: usize,
@@ -76,19 +76,8 @@ pub fn check_path(path: &Path) -> Result<CheckSummary, String> {
     check_scene(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// The name of the kind of `scene` in snake case (`Beam2d` -> `beam2d`, `BeltDrive` ->
-/// `belt_drive`), as messages about the kind should name it.
+/// The name of the body kind of `scene` (`beam_2d`, `belt_drive`, ...), as the scene key
+/// `kind = "..."` and messages name it.
 pub fn kind_name(scene: &Scene) -> String {
-    let mut out = String::new();
-    for (i, c) in format!("{:?}", scene.kind).chars().enumerate() {
-        if c.is_ascii_uppercase() {
-            if i > 0 {
-                out.push('_');
-            }
-            out.push(c.to_ascii_lowercase());
-        } else {
-            out.push(c);
-        }
-    }
-    out
+    scene.kind().name().to_string()
 }

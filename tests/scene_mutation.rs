@@ -110,7 +110,7 @@ fn known_keys(scenes: &[Shipped]) -> KnownKeys {
 #[derive(Clone, Debug, PartialEq)]
 enum Seg {
     Key(String),
-    Pick(usize),
+    Entry(usize),
 }
 
 type Path = Vec<Seg>;
@@ -125,7 +125,7 @@ fn show(path: &[Seg]) -> String {
                 }
                 s.push_str(k);
             }
-            Seg::Pick(i) => s.push_str(&format!("[{i}]")),
+            Seg::Entry(i) => s.push_str(&format!("[{i}]")),
         }
     }
     if s.is_empty() {
@@ -140,7 +140,7 @@ fn at<'a>(v: &'a Value, path: &[Seg]) -> Option<&'a Value> {
     for seg in path {
         cur = match (seg, cur) {
             (Seg::Key(k), Value::Table(t)) => t.get(k)?,
-            (Seg::Pick(i), Value::Array(a)) => a.get(*i)?,
+            (Seg::Entry(i), Value::Array(a)) => a.get(*i)?,
             _ => return None,
         };
     }
@@ -152,7 +152,7 @@ fn at_mut<'a>(v: &'a mut Value, path: &[Seg]) -> Option<&'a mut Value> {
     for seg in path {
         cur = match (seg, cur) {
             (Seg::Key(k), Value::Table(t)) => t.get_mut(k)?,
-            (Seg::Pick(i), Value::Array(a)) => a.get_mut(*i)?,
+            (Seg::Entry(i), Value::Array(a)) => a.get_mut(*i)?,
             _ => return None,
         };
     }
@@ -182,7 +182,7 @@ fn key_and_table(path: &[Seg]) -> (String, Option<String>) {
         .iter()
         .filter_map(|s| match s {
             Seg::Key(k) => Some(k),
-            Seg::Pick(_) => None,
+            Seg::Entry(_) => None,
         })
         .collect();
     let key = keys.last().map(|k| k.to_string()).unwrap_or_default();
@@ -194,7 +194,7 @@ fn key_and_table(path: &[Seg]) -> (String, Option<String>) {
 fn table_name(path: &[Seg]) -> Option<String> {
     path.iter().rev().find_map(|s| match s {
         Seg::Key(k) => Some(k.clone()),
-        Seg::Pick(_) => None,
+        Seg::Entry(_) => None,
     })
 }
 
@@ -213,7 +213,7 @@ fn key_paths(doc: &Value) -> Vec<Path> {
             Value::Array(a) => {
                 for (i, child) in a.iter().enumerate() {
                     if child.is_table() {
-                        prefix.push(Seg::Pick(i));
+                        prefix.push(Seg::Entry(i));
                         walk(child, prefix, out);
                         prefix.pop();
                     }
@@ -237,7 +237,7 @@ fn table_paths(doc: &Value) -> Vec<Path> {
                 for (i, e) in a.iter().enumerate() {
                     if e.is_table() {
                         let mut q = p.clone();
-                        q.push(Seg::Pick(i));
+                        q.push(Seg::Entry(i));
                         out.push(q);
                     }
                 }
@@ -258,7 +258,7 @@ fn number_paths(doc: &Value) -> Vec<Path> {
                 for (i, e) in a.iter().enumerate() {
                     if matches!(e, Value::Integer(_) | Value::Float(_)) {
                         let mut q = p.clone();
-                        q.push(Seg::Pick(i));
+                        q.push(Seg::Entry(i));
                         out.push(q);
                     }
                 }
@@ -518,10 +518,8 @@ fn apply(spec: &Spec, scene: &Shipped, known: &KnownKeys) -> Option<(Value, Appl
             let table = table_name(parent);
             // A name no shipped scene uses anywhere cannot be a key of any kind's tables.
             let must_reject = !known.anywhere.contains(&new);
-            let mut names = vec![(new.clone(), table.clone())];
-            if !must_reject {
-                names.push((key.to_string(), table));
-            }
+            // The unknown new name, or the now missing old one (a kind may report either first).
+            let names = vec![(new.clone(), table.clone()), (key.to_string(), table)];
             Applied {
                 what: format!("renamed {} to {new:?}", show(&path)),
                 names,
@@ -763,6 +761,16 @@ fn names_kind(msg: &str, kind: &str) -> bool {
 
 /// What a rejection message lacks of what `applied` requires (`None`: nothing).
 fn message_lacks(msg: &str, applied: &Applied, kind: &str) -> Option<&'static str> {
+    // The added table made the scene read as another kind, whose message names the keys that
+    // kind does not know (the scene's own).
+    if applied
+        .other_kind
+        .as_deref()
+        .is_some_and(|k| names_kind(msg, k))
+        && !names_kind(msg, kind)
+    {
+        return None;
+    }
     let named = |key: &str| names_word(msg, key) || (applied.derived && names_prefix(msg, key));
     let key = applied.names.iter().any(|(key, _)| named(key));
     let table = applied
@@ -1074,14 +1082,14 @@ const COMMON_TABLES: &[&str] = &["fmu", "experiment", "element", "solver", "grav
 /// `[[motions]]` and `[initial]` in 3D-beam and belt scenes.
 const KIND_TABLES: &[(&str, &[&str])] = &[
     (
-        "beam2d",
+        "beam_2d",
         &[
             "mesh", "geometry", "material", "supports", "loads", "probes", "motions", "outputs",
             "initial",
         ],
     ),
     (
-        "corot3d",
+        "beam_3d",
         &[
             "mesh",
             "section",
@@ -1174,13 +1182,15 @@ fn shipped_scenes_pass_check_after_round_trip() {
 /// The watchdog reports panics as panics and rejections as rejections.
 #[test]
 fn run_check_tells_rejections_from_acceptance() {
-    let (outcome, _) = run_check("[fmu]\nmodel_name = 3\n".into());
+    let text = shipped().remove(0).text;
+    assert!(matches!(run_check(text.clone()).0, Outcome::Accepted(_)));
+    let bad = text.replacen("model_name = \"", "model_name = 3 # \"", 1);
+    assert_ne!(bad, text);
+    let (outcome, _) = run_check(bad);
     assert!(
         matches!(outcome, Outcome::Rejected(ref m) if m.contains("model_name")),
         "{outcome:?}"
     );
-    let text = shipped().remove(0).text;
-    assert!(matches!(run_check(text).0, Outcome::Accepted(_)));
 }
 
 #[test]
@@ -1198,8 +1208,8 @@ fn message_matching() {
     assert!(!names_table("payloads", "loads"));
     assert!(!names_table("pulley_x", "pulley"));
     assert!(names_kind("not used by a belt drive", "belt_drive"));
-    assert!(names_kind("kind corot3d", "corot3d"));
-    assert!(!names_kind("kind beam2d", "corot3d"));
+    assert!(names_kind("kind \"beam_3d\", key `x`", "beam_3d"));
+    assert!(!names_kind("kind \"beam_2d\"", "beam_3d"));
     let applied = Applied {
         what: String::new(),
         names: vec![("belt_points".into(), Some("outputs".into()))],
@@ -1209,11 +1219,11 @@ fn message_matching() {
         derived: false,
     };
     assert!(message_ok(
-        "outputs.belt_points: not used by kind corot3d",
+        "kind \"beam_3d\", key `belt_points` in table [outputs]: unknown field",
         &applied,
-        "corot3d"
+        "beam_3d"
     ));
-    assert!(!message_ok("belt_points: not used", &applied, "corot3d"));
+    assert!(!message_ok("belt_points: not used", &applied, "beam_3d"));
 }
 
 /// Each mutation class produces the intended change on a known scene.
@@ -1315,17 +1325,17 @@ fn initial_table() -> Value {
 }
 
 #[test]
-fn corot3d_scene_rejects_motions() {
+fn beam_3d_scene_rejects_motions() {
     assert_rejected_naming("cantilever3d", &["motions"], motions_table(), None);
 }
 
 #[test]
-fn corot3d_scene_rejects_initial() {
+fn beam_3d_scene_rejects_initial() {
     assert_rejected_naming("cantilever3d", &["initial"], initial_table(), None);
 }
 
 #[test]
-fn corot3d_scene_rejects_belt_points() {
+fn beam_3d_scene_rejects_belt_points() {
     assert_rejected_naming(
         "cantilever3d",
         &["outputs", "belt_points"],
@@ -1335,7 +1345,7 @@ fn corot3d_scene_rejects_belt_points() {
 }
 
 #[test]
-fn beam2d_scene_rejects_belt_points() {
+fn beam_2d_scene_rejects_belt_points() {
     assert_rejected_naming(
         "cantilever",
         &["outputs", "belt_points"],
@@ -1352,4 +1362,51 @@ fn belt_scene_rejects_motions() {
 #[test]
 fn belt_scene_rejects_initial() {
     assert_rejected_naming("belt_drive", &["initial"], initial_table(), None);
+}
+
+/// Serde reads a struct from an array by position: `contact = [0.4]` was silently read as
+/// `[contact] mu = 0.4`. A table given as an array is an error that names it.
+#[test]
+fn belt_scene_rejects_table_given_as_array() {
+    let scene = shipped()
+        .into_iter()
+        .find(|s| s.name == "belt_drive")
+        .unwrap();
+    let mut doc = scene.doc.clone();
+    table_mut(&mut doc, &[]).insert("contact".into(), Value::Array(vec![Value::Float(0.4)]));
+    match cli::check_scene(&toml::to_string(&doc).unwrap()) {
+        Ok(summary) => panic!("contact = [0.4] accepted ({summary})"),
+        Err(msg) => assert!(
+            names_word(&msg, "contact") && names_kind(&msg, &scene.kind),
+            "the message must name contact and the kind: {msg}"
+        ),
+    }
+}
+
+/// An arc of radius 1.8e308 (finite, so valid TOML and not caught as non-finite) made the
+/// element distribution of the 3D-beam mesher overflow (`n_elements * length / total` = inf,
+/// cast to usize::MAX) and count down to the mesh size one by one: `flexfmu check` hung.
+#[test]
+fn beam_3d_scene_with_huge_arc_radius_answers() {
+    let scene = shipped().into_iter().find(|s| s.name == "bend45").unwrap();
+    let mut doc = scene.doc.clone();
+    let path = [
+        Seg::Key("centreline".into()),
+        Seg::Key("segments".into()),
+        Seg::Entry(0),
+        Seg::Key("radius".into()),
+    ];
+    *at_mut(&mut doc, &path).unwrap() = Value::Float(f64::MAX);
+    let applied = Applied {
+        what: "set centreline.segments[0].radius to 1.8e308".into(),
+        names: vec![("radius".into(), Some("segments".into()))],
+        must_reject: false,
+        names_kind: false,
+        other_kind: None,
+        derived: true,
+    };
+    let (outcome, took) = run_check(toml::to_string(&doc).unwrap());
+    if let Some((_, problem)) = judge(&outcome, &applied, &scene.kind) {
+        panic!("{}: {problem} (after {took:?})", applied.what);
+    }
 }
