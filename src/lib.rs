@@ -24,6 +24,7 @@ pub mod integrators;
 pub mod kinds;
 pub mod linalg;
 pub mod logging;
+pub mod meshers;
 pub mod model;
 pub mod model_description;
 pub mod packaging;

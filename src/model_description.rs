@@ -85,7 +85,7 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
         ]),
     )));
 
-    let c = scene.body.capabilities();
+    let c = Capabilities::ALL;
     let order = c.max_output_derivative_order.to_string();
     io(w.write_event(Event::Empty(
         BytesStart::new("CoSimulation").with_attributes([
@@ -194,11 +194,24 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
         io(w.write_event(Event::Start(BytesStart::new("Outputs"))));
         for v in &outputs {
             let idx = (v.vr + 1).to_string();
-            // Outputs are functions of the state only: no direct feedthrough from the inputs.
-            io(w.write_event(Event::Empty(
-                BytesStart::new("Unknown")
-                    .with_attributes([("index", idx.as_str()), ("dependencies", "")]),
-            )));
+            // Direct feedthrough at a communication point (FMI 2.0.4 section 2.2.8): the
+            // inputs whose change moves the output before the next fmi2DoStep, as the variable
+            // table declares them (ScalarVariable index = value reference + 1, ascending).
+            // Empty: the output is a function of the state only. No `dependenciesKind`: the
+            // default "dependent" is the true statement, since the factors (e.g. the interface
+            // stiffness of a motion port) depend on the continuous state.
+            let deps = v
+                .depends_on
+                .iter()
+                .map(|d| (d + 1).to_string())
+                .collect::<Vec<_>>()
+                .join(" ");
+            io(
+                w.write_event(Event::Empty(BytesStart::new("Unknown").with_attributes([
+                    ("index", idx.as_str()),
+                    ("dependencies", deps.as_str()),
+                ]))),
+            );
         }
         io(w.write_event(Event::End(BytesEnd::new("Outputs"))));
         io(w.write_event(Event::Start(BytesStart::new("InitialUnknowns"))));

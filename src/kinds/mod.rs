@@ -12,7 +12,6 @@ pub mod belt_drive;
 pub mod energy;
 
 use crate::model::Model;
-use crate::model_description::Capabilities;
 use crate::scene::ParamDef;
 use crate::scene::ParamValues;
 use crate::units::Unit;
@@ -74,9 +73,6 @@ pub trait KindScene: Debug + Send + Sync + Any {
 
     /// The model with validated parameter values. Errors name the parameter or scene key.
     fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String>;
-
-    /// The optional FMI features the kind's model implements.
-    fn capabilities(&self) -> Capabilities;
 
     /// For tests and tools that need the kind's own tables.
     fn as_any(&self) -> &dyn Any;

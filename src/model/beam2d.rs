@@ -13,7 +13,7 @@ use crate::kinds::beam_2d::Beam2dScene;
 use crate::kinds::beam_2d::scene::{Input, Output, io};
 use crate::kinds::energy::EnergyKind;
 use crate::linalg::{CscPattern, LinearSolver, SolverKind};
-use crate::model::inputs::InputSignal;
+use crate::model::inputs::{InputSignal, prescribed};
 use crate::scene::params::{ParamValues, names::*};
 use crate::scene::tables::{Axis, ProbeQuantity, SupportKind};
 use crate::snapshot::{StateReader, StateWriter};
@@ -111,23 +111,6 @@ impl Clone for Interface {
             solver: None,
             vals: Vec::new(),
         }
-    }
-}
-
-/// Prescribed position, velocity and acceleration of one coordinate of a motion port at `t`:
-/// the position input's own polynomial if derivatives were given, otherwise the position
-/// advanced with the velocity input (integrated exactly).
-fn prescribed(pos: &InputSignal, vel: &InputSignal, t: f64) -> (f64, f64, f64) {
-    if pos.interpolated {
-        (pos.at(t), pos.rate_at(t), pos.accel())
-    } else {
-        let tau = t - pos.t_ref;
-        let [d1, d2] = vel.derivatives;
-        (
-            pos.value + tau * (vel.value + tau * (0.5 * d1 + tau * d2 / 6.0)),
-            vel.value + tau * (d1 + 0.5 * tau * d2),
-            d1 + tau * d2,
-        )
     }
 }
 
@@ -661,10 +644,10 @@ impl Beam2d {
         if r.iter().any(|x| !x.is_finite()) {
             return Err(ModelError::NonFinite);
         }
-        if let Some((_, vals)) = jac {
-            if vals.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::NonFinite);
-            }
+        if let Some((_, vals)) = jac
+            && vals.iter().any(|x| !x.is_finite())
+        {
+            return Err(ModelError::NonFinite);
         }
         Ok(())
     }
@@ -760,6 +743,19 @@ impl Model for Beam2d {
                     let np = 2 * self.motion_nodes.len();
                     let k = self.interface_jacobian();
                     -dp * k[(2 * port + axis) * np + 2 * p2 + coord]
+                }
+                // A load on the port node goes straight into the driver (`port_reaction`).
+                (Output::Reaction { port, axis }, Input::Load { load, axis: a2 }) => {
+                    let base = self.motion_nodes[port] * NODE_COORDS;
+                    if a2 != axis {
+                        return Some(0.0);
+                    }
+                    self.load_maps[load]
+                        .weights()
+                        .iter()
+                        .filter(|(i, _)| *i == base)
+                        .map(|(_, w)| w)
+                        .sum()
                 }
                 _ => 0.0,
             },

@@ -82,7 +82,9 @@ pub trait MechanicalSystem {
 }
 
 /// A model as the simulation driver and the FMU see it: a mechanical system with inputs,
-/// outputs and a committed state.
+/// outputs and a committed state. Every optional FMI feature flexfmu declares
+/// ([`crate::model_description::Capabilities::ALL`]: input interpolation, output derivatives,
+/// FMU state) is a required method here, so a kind cannot declare what its model lacks.
 pub trait Model: MechanicalSystem + Send + std::any::Any {
     /// Sets input `input` (its index among the scene's inputs, see
     /// [`crate::kinds::KindIo`]) at the model's current (committed) time; clears its
@@ -94,21 +96,17 @@ pub trait Model: MechanicalSystem + Send + std::any::Any {
     /// (`fmi2SetRealInputDerivatives`). Models that cannot interpolate return an error.
     fn set_input_derivative(
         &mut self,
-        _input: usize,
-        _order: usize,
-        _value: f64,
-    ) -> Result<(), String> {
-        Err("this model cannot interpolate inputs".into())
-    }
+        input: usize,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String>;
 
     /// Output `output` (its index among the scene's outputs) of the committed state with the
     /// current inputs.
     fn output(&self, output: usize) -> f64;
 
     /// First time derivative of an output at the committed state, if the model provides it.
-    fn output_derivative(&self, _output: usize) -> Option<f64> {
-        None
-    }
+    fn output_derivative(&self, output: usize) -> Option<f64>;
 
     /// Partial derivative of an output with respect to an input at the committed state
     /// (states frozen, FMI 2.0 Co-Simulation directional derivative), if the model provides it
@@ -144,14 +142,10 @@ pub trait Model: MechanicalSystem + Send + std::any::Any {
 
     /// Writes everything the model needs besides the integrator state to continue exactly:
     /// inputs, committed state, history variables.
-    fn save(&self, _w: &mut StateWriter) -> Result<(), String> {
-        Err("this model cannot save its state".into())
-    }
+    fn save(&self, w: &mut StateWriter) -> Result<(), String>;
 
     /// Restores what [`Model::save`] wrote.
-    fn restore(&mut self, _r: &mut StateReader) -> Result<(), String> {
-        Err("this model cannot restore a state".into())
-    }
+    fn restore(&mut self, r: &mut StateReader) -> Result<(), String>;
 
     /// Whether a change of this input calls for new consistent accelerations at the start of
     /// the next step (default: yes). Inputs that change every communication step as a smooth

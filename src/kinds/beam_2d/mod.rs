@@ -7,7 +7,6 @@ pub mod scene;
 use super::{BodyKind, KindScene, legacy_element_type, legacy_has_belt};
 use crate::model::Model;
 use crate::model::beam2d::Beam2d;
-use crate::model_description::Capabilities;
 use crate::scene::ParamValues;
 use crate::scene::params::ParamDef;
 use crate::scene::tables::{
@@ -56,10 +55,6 @@ impl KindScene for Beam2dScene {
 
     fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String> {
         Ok(Box::new(Beam2d::build(self, params)?))
-    }
-
-    fn capabilities(&self) -> Capabilities {
-        Capabilities::ALL
     }
 
     fn as_any(&self) -> &dyn std::any::Any {

@@ -159,7 +159,7 @@ pub fn params(s: &Beam2dScene) -> Result<Vec<ParamDef>, String> {
             Value::Integer(int_param(mesh.n_elements, MESH_N_ELEMENTS)?),
             None,
             "Number of elements",
-            Check::IntRange(1, 100_000),
+            Check::IntRange(1, MAX_ELEMENTS as i32),
         ),
         ParamDef::new(
             ELEMENT_SHEAR_RULE,
@@ -194,6 +194,28 @@ pub fn params(s: &Beam2dScene) -> Result<Vec<ParamDef>, String> {
     }
     defs.extend(gravity_params_2d(s.gravity.as_ref()));
     Ok(defs)
+}
+
+/// Largest `mesh.n_elements` of a planar beam.
+const MAX_ELEMENTS: usize = 100_000;
+
+/// Whether a point load at fraction `load_at` of the length puts weight on the node at fraction
+/// `node_at` for some element count at which every support and motion port falls on a node
+/// (as `model::beam2d` builds the mesh and interpolates loads). The ModelStructure must hold
+/// for every value of the fixed parameter `mesh.n_elements`, and must not list more.
+fn load_reaches_node(s: &Beam2dScene, load_at: f64, node_at: f64) -> bool {
+    (1..=MAX_ELEMENTS).any(|n| {
+        let nf = n as f64;
+        let on_node = |x: f64| (x * nf - (x * nf).round()).abs() <= 1e-9 * nf;
+        if !s.supports.iter().all(|p| on_node(p.at)) || !s.motions.iter().all(|p| on_node(p.at)) {
+            return false;
+        }
+        let node = (node_at * nf).round() as usize;
+        let x = load_at * nf;
+        let e = (x.floor() as usize).min(n - 1);
+        let xi = x - e as f64;
+        (e == node && xi != 1.0) || (e + 1 == node && xi != 0.0)
+    })
 }
 
 /// Inputs (load components, motion ports) and outputs (reactions, probe quantities, energies)
@@ -241,8 +263,22 @@ pub fn io(s: &Beam2dScene) -> KindIo<Input, Output> {
                 Input::Motion { port, component },
             );
         }
-        let (nx, ny) = (format!("{}.x", m.name), format!("{}.y", m.name));
         for (axis, suffix) in ["fx", "fy"].into_iter().enumerate() {
+            // Direct feedthrough at a communication point (`Beam2d::port_force`): the reaction
+            // moves with every port's prescribed position through the interface Jacobian
+            // (positions and velocities: a position set at an earlier communication point is
+            // extrapolated with the velocity input), and takes the loads of the same axis
+            // that act on the port node for some `mesh.n_elements`.
+            let mut deps: Vec<String> = s
+                .loads
+                .iter()
+                .filter(|l| load_reaches_node(s, l.at, m.at))
+                .map(|l| format!("{}.{}", l.name, ["fx", "fy"][axis]))
+                .collect();
+            for p in &s.motions {
+                deps.extend(["x", "y", "vx", "vy"].map(|c| format!("{}.{c}", p.name)));
+            }
+            let deps: Vec<&str> = deps.iter().map(String::as_str).collect();
             io.output(
                 format!("{}.{suffix}", m.name),
                 Unit::N,
@@ -252,7 +288,7 @@ pub fn io(s: &Beam2dScene) -> KindIo<Input, Output> {
                 ),
                 Output::Reaction { port, axis },
             )
-            .depending_on(&[&nx, &ny]);
+            .depending_on(&deps);
         }
     }
     for (i, p) in s.probes.iter().enumerate() {

@@ -8,7 +8,6 @@ pub mod scene;
 use super::{BodyKind, KindScene, legacy_element_type, legacy_has_belt};
 use crate::model::Model;
 use crate::model::corot3d::Beam3d;
-use crate::model_description::Capabilities;
 use crate::scene::ParamValues;
 use crate::scene::params::ParamDef;
 use crate::scene::tables::{
@@ -57,16 +56,6 @@ impl KindScene for Beam3dScene {
 
     fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String> {
         Ok(Box::new(Beam3d::build(self, params)?))
-    }
-
-    fn capabilities(&self) -> Capabilities {
-        // No analytic output rates and no input interpolation yet; state and derivatives
-        // are generic.
-        Capabilities {
-            interpolate_inputs: false,
-            max_output_derivative_order: 0,
-            ..Capabilities::ALL
-        }
     }
 
     fn as_any(&self) -> &dyn std::any::Any {

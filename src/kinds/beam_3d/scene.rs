@@ -89,10 +89,10 @@ pub fn check(s: &Beam3dScene) -> Result<(), Vec<String>> {
         if !finite3(&c.start) {
             errs.push("centreline.start: must be finite numbers".into());
         }
-        if let Some(z) = &c.section_z {
-            if !finite3(z) || norm3(z) == 0.0 {
-                errs.push("centreline.section_z: must be a finite non-zero vector".into());
-            }
+        if let Some(z) = &c.section_z
+            && (!finite3(z) || norm3(z) == 0.0)
+        {
+            errs.push("centreline.section_z: must be a finite non-zero vector".into());
         }
         if c.segments.is_empty() {
             errs.push("centreline.segments: give at least one piece".into());

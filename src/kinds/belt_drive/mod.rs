@@ -8,7 +8,6 @@ pub mod scene;
 use super::{BodyKind, KindScene, legacy_has_belt};
 use crate::model::Model;
 use crate::model::belt_drive::BeltDrive;
-use crate::model_description::Capabilities;
 use crate::scene::ParamValues;
 use crate::scene::params::ParamDef;
 use crate::scene::tables::{Choice, ExperimentSection, FmuSection, Gravity2d, SolverSection};
@@ -54,16 +53,6 @@ impl KindScene for BeltDriveScene {
 
     fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String> {
         Ok(Box::new(BeltDrive::build(self, params)?))
-    }
-
-    fn capabilities(&self) -> Capabilities {
-        // No analytic output rates and no input interpolation yet; state and derivatives
-        // are generic.
-        Capabilities {
-            interpolate_inputs: false,
-            max_output_derivative_order: 0,
-            ..Capabilities::ALL
-        }
     }
 
     fn as_any(&self) -> &dyn std::any::Any {

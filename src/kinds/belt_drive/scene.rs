@@ -187,10 +187,10 @@ pub fn check(s: &BeltDriveScene) -> Result<(), Vec<String>> {
             errs.push("pulley[1].center: must differ from pulley[0].center".into());
         }
     }
-    if let Some(n) = s.outputs.belt_points {
-        if !(2..=10_000).contains(&n) {
-            errs.push(format!("outputs.belt_points = {n}: must lie in [2, 10000]"));
-        }
+    if let Some(n) = s.outputs.belt_points
+        && !(2..=10_000).contains(&n)
+    {
+        errs.push(format!("outputs.belt_points = {n}: must lie in [2, 10000]"));
     }
     if errs.is_empty() { Ok(()) } else { Err(errs) }
 }
