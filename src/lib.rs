@@ -7,13 +7,14 @@
 //!
 //! Physics: element kernels in [`elements`], global assembly in [`assembly`], linear algebra in
 //! [`linalg`], static and dynamic solvers in [`solver`] and [`integrators`], and the
-//! scene-specific models in [`model`].
+//! scene-specific models in [`model`]. What the `flexfmu check` command does is in [`cli`].
 #![warn(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
 // Numeric kernels index several arrays with one loop variable; iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
+pub mod cli;
 pub mod contact;
 pub mod elements;
 pub mod fmi2;
