@@ -96,15 +96,17 @@ pub fn mesh_centreline(
     let (mut p, mut t) = (start, Vector3::x());
     for (i, piece) in pieces.iter().enumerate() {
         if let Some(d) = piece.direction() {
-            t = d.normalize();
+            // scaled first: components near f64::MAX would overflow the norm
+            t = (d / d.amax()).normalize();
         }
         let n = match piece {
             Piece::Line { .. } => Vector3::zeros(),
             Piece::Arc { bend_axis, .. } => {
-                let bp = bend_axis - t * bend_axis.dot(&t);
-                if bp.norm() < 1e-8 * bend_axis.norm() {
+                let b = bend_axis / bend_axis.amax();
+                let bp = b - t * b.dot(&t);
+                if bp.norm() < 1e-8 * b.norm() {
                     return Err(format!(
-                        "{key}[{i}].bend_axis: parallel to the tangent {t:?}"
+                        "{key}[{i}].bend_axis: parallel to the tangent {t:?} (the direction of this or an earlier piece)"
                     ));
                 }
                 bp.normalize().cross(&t)
@@ -155,7 +157,7 @@ pub fn mesh_centreline(
 /// one each.
 fn share(lengths: &[f64], n: usize) -> Result<Vec<usize>, String> {
     let total: f64 = lengths.iter().sum();
-    let exact: Vec<f64> = lengths.iter().map(|l| n as f64 * l / total).collect();
+    let exact: Vec<f64> = lengths.iter().map(|l| n as f64 * (l / total)).collect();
     let mut counts: Vec<usize> = exact.iter().map(|e| (e.floor() as usize).max(1)).collect();
     let k_all = 0..lengths.len();
     while counts.iter().sum::<usize>() > n {

@@ -191,7 +191,10 @@ impl Beam2d {
             }
             let base = node as usize * NODE_COORDS;
             if constrained[base] || constrained[base + 1] {
-                return Err(format!("motions[{i}]: the node is already supported"));
+                return Err(format!(
+                    "motions[{i}].at = {}: the node is already supported (a [[supports]] entry at the same place)",
+                    m.at
+                ));
             }
             constrained[base] = true;
             constrained[base + 1] = true;
@@ -211,7 +214,12 @@ impl Beam2d {
         for e in 0..n_el {
             let e0: ElemVec = asm.gather(e, &q0);
             let el = AncfShear2d::new(&e0, le, section, rule)
-                .ok_or_else(|| format!("element {e}: degenerate reference geometry"))?;
+                .ok_or_else(|| {
+                    format!(
+                        "element {e}: degenerate reference geometry ({GEOMETRY_LENGTH} = {length} m over {MESH_N_ELEMENTS} = {n_el}, {GEOMETRY_WIDTH} = {} m, {GEOMETRY_HEIGHT} = {} m)",
+                        section.width, section.height
+                    )
+                })?;
             let m = el.mass(&e0, rho);
             asm.add_matrix(e, &m, 1.0, &mut mass_vals);
             asm.add_vector(e, &el.gravity(&e0, rho, gravity), 1.0, &mut gravity_full);

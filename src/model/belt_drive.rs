@@ -742,7 +742,13 @@ impl BeltDrive {
         for round in 0..5 {
             self.free_state(&mut qf, &mut vf);
             let st = crate::solver::statics::solve(self, &mut ws, &mut qf, &settings, load_steps)
-                .map_err(|e| format!("static pre-load of the belt: {e}"))?;
+                .map_err(|e| {
+                    let s = &self.spec.section;
+                    format!(
+                        "static pre-load of the belt (belt.EA = {} N, belt.EI = {} N.m2, belt.mass_per_length = {} kg/m, belt.damping_axial = {} N.s, belt.damping_bending = {} N.m2.s, belt.pretension = {pretension} N, belt.thickness = {} m, contact.mu = {}, contact.stiffness = {} N/m2, with the pulleys' radius and center; solver.newton_tolerance = {}, solver.max_iterations = {}): {e}",
+                        s.ea, s.ei, s.mass_per_length, s.damping_axial, s.damping_bending, self.spec.thickness, self.spec.contact.mu, self.spec.contact.k_n, settings.tolerance, settings.max_iterations
+                    )
+                })?;
             self.preload.solves += 1;
             self.preload.iterations += st.newton.iterations;
             self.asm.dofs.expand(&qf, &mut self.q);

@@ -91,7 +91,12 @@ fn mesh(c: &CentrelineSection, n_el: usize) -> Result<Mesh, String> {
     for e in 0..n_el {
         let f = reference_frame(&x[e], &x[e + 1], &hint)
             .or_else(|| reference_frame(&x[e], &x[e + 1], &Vector3::y()))
-            .ok_or_else(|| format!("element {e}: degenerate reference geometry"))?;
+            .ok_or_else(|| {
+                format!(
+                    "element {e}: degenerate reference geometry (centreline.start, the length, or radius and angle_deg, of the centreline.segments and {MESH_N_ELEMENTS} = {n_el} give it the ends {:?} and {:?})",
+                    x[e], x[e + 1]
+                )
+            })?;
         frames.push(f);
     }
     Ok(Mesh {
@@ -191,7 +196,11 @@ impl Beam3d {
         let m = mesh(c, n_el)?;
         let n_nodes = n_el + 1;
         let length = m.stations.length();
-        let node_at = |key: String, at: f64| m.stations.node_at(&key, at, MESH_N_ELEMENTS);
+        let node_at = |key: String, at: f64| {
+            m.stations
+                .node_at(&key, at, MESH_N_ELEMENTS)
+                .map_err(|e| format!("{e} (the nodes follow from {MESH_N_ELEMENTS} and the lengths of the centreline.segments)"))
+        };
         let mut constrained = vec![false; n_nodes * NODE_DOFS];
         for (i, s) in scene.supports.iter().enumerate() {
             let k = node_at(format!("supports[{i}]"), s.at)?;

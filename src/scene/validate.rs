@@ -87,7 +87,8 @@ pub fn check_names(params: &[ParamDef], io: &[IoVariable]) -> Result<(), Vec<Str
     {
         if !seen.insert(name.clone()) {
             errs.push(format!(
-                "variable {name} is declared twice (rename the load or probe)"
+                "variable {name} is declared twice: rename one of the [[loads]], [[probes]] or [[motions]] entries named \"{}\"",
+                name.split('.').next().unwrap_or(&name)
             ));
         }
     }

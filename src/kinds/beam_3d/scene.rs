@@ -77,8 +77,13 @@ fn finite3(v: &[f64; 3]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
+/// Euclidean norm, scaled so that components up to f64::MAX do not overflow.
 fn norm3(v: &[f64; 3]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+    let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * v.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
 }
 
 /// Problems of a 3D-beam scene: required tables, centre line, supports, loads, probes.
