@@ -7,7 +7,7 @@ use flexfmu::instance::Instance;
 use flexfmu::logging::Status;
 use flexfmu::variables::Value;
 
-use common::{Log, get, set, vr};
+use common::{Log, get, init, run, set, vr};
 
 fn instance(scene: &str) -> (Instance, Log) {
     common::instance(scene, false)
@@ -22,19 +22,6 @@ fn outputs(inst: &mut Instance) -> Vec<u64> {
         .map(|v| v.name.clone())
         .collect();
     names.iter().map(|n| get(inst, n).to_bits()).collect()
-}
-
-fn init(inst: &mut Instance) {
-    assert_eq!(inst.setup_experiment(None, 0.0, None), Status::Ok);
-    assert_eq!(inst.enter_initialization_mode(), Status::Ok);
-    assert_eq!(inst.exit_initialization_mode(), Status::Ok);
-}
-
-fn run(inst: &mut Instance, t0: f64, t1: f64, h: f64) {
-    let n = ((t1 - t0) / h).round() as usize;
-    for k in 0..n {
-        assert_eq!(inst.do_step(t0 + k as f64 * h, h), Status::Ok);
-    }
 }
 
 /// Save at t1, run to t2, restore, run to t2 again: identical outputs bit for bit — directly,
