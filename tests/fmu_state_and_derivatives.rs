@@ -82,7 +82,7 @@ fn bad_state_buffers_are_rejected() {
     let good = a.save_fmu_state(Call::GetFmuState).unwrap();
     let before = outputs(&mut a);
 
-    // truncated at every length, corrupted bytes, another FMU's state
+    // truncated at every length, corrupted bytes, a trailing byte, another FMU's state
     for cut in [0, 1, 15, 16, 30, good.len() / 2, good.len() - 1] {
         let (mut b, _) = instance("pendulum");
         assert_eq!(
@@ -97,6 +97,11 @@ fn bad_state_buffers_are_rejected() {
         let (mut b, _) = instance("pendulum");
         assert_eq!(b.restore_fmu_state(&bad), Status::Error, "flip at {pos}");
     }
+    // trailing bytes after the announced length
+    let mut longer = good.clone();
+    longer.push(0);
+    let (mut b, _) = instance("pendulum");
+    assert_eq!(b.restore_fmu_state(&longer), Status::Error, "trailing byte");
     let (mut other, _) = instance("cantilever");
     init(&mut other);
     let foreign = other.save_fmu_state(Call::GetFmuState).unwrap();
