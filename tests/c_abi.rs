@@ -7,7 +7,7 @@ use flexfmu::fmi2::exports::*;
 use flexfmu::fmi2::types::*;
 use flexfmu::model_description::scene_guid;
 use flexfmu::scene::Scene;
-use std::ffi::{CString, c_char, c_void};
+use std::ffi::CString;
 use std::path::PathBuf;
 use std::ptr;
 
