@@ -352,3 +352,25 @@ fn explicit_scheme_picks_its_stable_step() {
         assert_eq!(inst.get_boolean_status(StatusKind::Terminated), Ok(true));
     }
 }
+
+/// A motion input that jumps 98 m within one communication step (found by the FMI fuzzer): the
+/// step-size control would need hundreds of thousands of substeps of nanoseconds (12 s of CPU
+/// for a 1 ms step); it gives up after its budget of substep attempts and says so with
+/// fmi2Discard, the state at the last accepted substep.
+#[test]
+fn violent_motion_input_fails_with_a_budget_of_substeps() {
+    let (mut inst, log) = instance("cantilever_motion");
+    assert_eq!(init(&mut inst), Status::Ok);
+    set(&mut inst, "tip.y", Value::Real(100.0));
+    assert_eq!(inst.do_step(0.0, 1e-3), Status::Discard);
+    assert!(
+        last_message(&log).contains("step size control gave up"),
+        "{}",
+        last_message(&log)
+    );
+    let reached = inst
+        .get_real_status(StatusKind::LastSuccessfulTime)
+        .unwrap();
+    assert!(reached < 1e-3, "reached {reached}");
+    assert_eq!(inst.get_boolean_status(StatusKind::Terminated), Ok(true));
+}
