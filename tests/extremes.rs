@@ -374,3 +374,21 @@ fn violent_motion_input_fails_with_a_budget_of_substeps() {
     assert!(reached < 1e-3, "reached {reached}");
     assert_eq!(inst.get_boolean_status(StatusKind::Terminated), Ok(true));
 }
+
+/// A motion-port position set in Initialization Mode away from the reference (found by the FMI
+/// fuzzer): the committed port coordinate is exactly the input, so the port force needs no
+/// extrapolation; `q0 + (p − q0)`, one bit off for p = 0.3, made fmi2ExitInitializationMode
+/// panic (fmi2Fatal).
+#[test]
+fn motion_port_moved_before_initialization() {
+    for x in [0.3, 0.1, 1e-7, 1.9] {
+        let (mut inst, _) = instance("cantilever_motion");
+        assert_eq!(inst.setup_experiment(None, 0.0, None), Status::Ok);
+        assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+        set(&mut inst, "tip.x", Value::Real(x));
+        assert_eq!(inst.exit_initialization_mode(), Status::Ok, "tip.x = {x}");
+        assert!(get(&mut inst, "tip.fx").is_finite());
+        assert_eq!(inst.do_step(0.0, 1e-4), Status::Ok, "tip.x = {x}");
+        assert!(get(&mut inst, "tip.fx").is_finite());
+    }
+}
