@@ -73,7 +73,9 @@ fn main() {
     let summary = harness.run(&cfg);
     println!("{}", summary.report());
     if summary.passed() {
-        println!("PASSED: no crash, no fmi2Fatal, no invalid status, no hang");
+        println!(
+            "PASSED: no crash, no fmi2Fatal, no invalid status, no hang, no damaged state accepted"
+        );
     } else {
         println!("FAILED");
         std::process::exit(1);

@@ -280,9 +280,15 @@ impl Summary {
     }
 
     /// Crashes are fatal to the process; what a finished run can fail on: fmi2Fatal, invalid
-    /// statuses and hangs.
+    /// statuses, hangs, and a damaged or foreign serialized state that was accepted.
     pub fn passed(&self) -> bool {
-        self.statuses[4] == 0 && self.invalid == 0 && self.hangs.is_empty()
+        self.statuses[4] == 0
+            && self.invalid == 0
+            && self.hangs.is_empty()
+            && self
+                .accepted_blobs
+                .keys()
+                .all(|k| *k == BlobKind::Own.name())
     }
 
     /// A human-readable report.
@@ -312,9 +318,14 @@ impl Summary {
         );
         let _ = writeln!(
             s,
-            "crashes: 0 (the process is alive); fmi2Fatal (caught panics): {}; hangs (> limit): {}",
+            "crashes: 0 (the process is alive); fmi2Fatal (caught panics): {}; hangs (> limit): {}; damaged or foreign states accepted: {}",
             self.statuses[4],
-            self.hangs.len()
+            self.hangs.len(),
+            self.accepted_blobs
+                .iter()
+                .filter(|(k, _)| **k != BlobKind::Own.name())
+                .map(|(_, n)| n)
+                .sum::<u64>()
         );
         let _ = writeln!(
             s,
@@ -1099,10 +1110,14 @@ impl Seq<'_> {
                 (BlobKind::Truncated, b)
             }
             4 => {
-                let mut b = base;
+                let mut b = base.clone();
                 for _ in 0..1 + self.rng.below(3) {
                     let p = self.rng.below(b.len());
                     b[p] ^= 1 << self.rng.below(8);
+                }
+                if b == base {
+                    // two flips of the same bit cancelled
+                    b[0] ^= 1;
                 }
                 (BlobKind::Corrupted, b)
             }
