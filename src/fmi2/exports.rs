@@ -29,7 +29,7 @@ struct Handle {
 /// SAFETY: `c` is null or a pointer returned by fmi2Instantiate; a freed or foreign pointer
 /// is detected through the magic number as far as reading 8 bytes from it is possible.
 unsafe fn handle<'a>(c: Fmi2Component) -> Option<&'a mut Handle> {
-    if c.is_null() || (c as usize) % std::mem::align_of::<Handle>() != 0 {
+    if c.is_null() || !(c as usize).is_multiple_of(std::mem::align_of::<Handle>()) {
         return None;
     }
     let h = c as *mut Handle;
@@ -511,7 +511,7 @@ struct StateBox {
 /// freed or foreign pointer is detected through the magic number as far as reading 8 bytes
 /// from it is possible.
 unsafe fn state_box<'a>(p: Fmi2FmuState) -> Option<&'a mut StateBox> {
-    if p.is_null() || (p as usize) % std::mem::align_of::<StateBox>() != 0 {
+    if p.is_null() || !(p as usize).is_multiple_of(std::mem::align_of::<StateBox>()) {
         return None;
     }
     let b = p as *mut StateBox;

@@ -52,6 +52,17 @@ pub fn simulation(scene: &Scene, overrides: &[(&str, Value)]) -> Result<Simulati
     Ok(sim)
 }
 
+/// The index of input `name` among the scene's inputs (what `Model::set_input` takes).
+pub fn input_index(scene: &Scene, name: &str) -> usize {
+    match VariableTable::from_scene(scene)
+        .by_name(name)
+        .map(|v| v.role)
+    {
+        Some(Role::Input(k)) => k,
+        other => panic!("{name} is not an input: {other:?}"),
+    }
+}
+
 /// An output of a simulation by variable name.
 pub fn output(scene: &Scene, sim: &Simulation, name: &str) -> f64 {
     let vars = VariableTable::from_scene(scene);

@@ -849,18 +849,18 @@ impl Seq<'_> {
             time: 0.0,
         });
         // most sequences keep meshes and steps small (the module doc)
-        if self.rng.chance(0.9) {
-            if let Some(vr) = fmu.mesh_vr {
-                let n = if fmu.name.starts_with("belt") {
-                    self.rng.pick(&[16, 16, 20, 24, 32, 8])
-                } else {
-                    self.rng.pick(&[1, 2, 4, 8])
-                };
-                // SAFETY: a live component and one-element arrays.
-                self.note(|| format!("{c:?} {}: mesh vr {vr} = {n}", fmu.name));
-                let s = unsafe { fmi2SetInteger(c, &vr, 1, &n) };
-                self.record("fmi2SetInteger", s);
-            }
+        if self.rng.chance(0.9)
+            && let Some(vr) = fmu.mesh_vr
+        {
+            let n = if fmu.name.starts_with("belt") {
+                self.rng.pick(&[16, 16, 20, 24, 32, 8])
+            } else {
+                self.rng.pick(&[1, 2, 4, 8])
+            };
+            // SAFETY: a live component and one-element arrays.
+            self.note(|| format!("{c:?} {}: mesh vr {vr} = {n}", fmu.name));
+            let s = unsafe { fmi2SetInteger(c, &vr, 1, &n) };
+            self.record("fmi2SetInteger", s);
         }
     }
 
@@ -1228,10 +1228,10 @@ impl Seq<'_> {
                             .entry(self.h.fmus[fmu].name.clone())
                             .or_default() += 1;
                     }
-                    if s == FMI2_DISCARD {
-                        if let Some(l) = self.live.iter_mut().find(|l| l.c == c) {
-                            l.state = Tracked::StepFailed;
-                        }
+                    if s == FMI2_DISCARD
+                        && let Some(l) = self.live.iter_mut().find(|l| l.c == c)
+                    {
+                        l.state = Tracked::StepFailed;
                     }
                     self.track(c, s, |l| l.time = t + h);
                 }
@@ -1453,10 +1453,10 @@ impl Seq<'_> {
                         self.track(c, s2, |_| {});
                         if s2 == FMI2_OK && pass >= size && !p.is_null() {
                             buf.truncate(size);
-                            if let Some(&f) = self.state_scene.get(&(st as usize)) {
-                                if self.blobs.len() < 8 {
-                                    self.blobs.push((f, buf));
-                                }
+                            if let Some(&f) = self.state_scene.get(&(st as usize))
+                                && self.blobs.len() < 8
+                            {
+                                self.blobs.push((f, buf));
                             }
                         }
                     }
