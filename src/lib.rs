@@ -7,7 +7,7 @@
 //!
 //! Physics: element kernels in [`elements`], global assembly in [`assembly`], linear algebra in
 //! [`linalg`], static and dynamic solvers in [`solver`] and [`integrators`], and the
-//! scene-specific models in [`model`].
+//! scene-specific models in [`model`]. What the `flexfmu check` command does is in [`cli`].
 #![warn(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
 // Only the C ABI shims in `fmi2` may use `unsafe`; everything else is safe Rust.
@@ -16,6 +16,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
+pub mod cli;
 pub mod contact;
 pub mod elements;
 #[allow(unsafe_code)]

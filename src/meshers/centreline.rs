@@ -123,6 +123,15 @@ pub fn mesh_centreline(
         placed.push(pl);
     }
     let lengths: Vec<f64> = pieces.iter().map(Piece::length).collect();
+    if let Some(i) = lengths.iter().position(|l| !(l.is_finite() && *l > 0.0)) {
+        return Err(format!(
+            "{key}[{i}]: length {} m; every piece needs a finite positive length",
+            lengths[i]
+        ));
+    }
+    if !lengths.iter().sum::<f64>().is_finite() {
+        return Err(format!("{key}: the total length is not a finite number"));
+    }
     let counts = share(&lengths, n_elements)?;
     let mut x = vec![start];
     let mut s = vec![0.0];
@@ -201,6 +210,19 @@ mod tests {
 
     /// A quarter circle of radius 2 bent about z: the nodes lie on the circle, the arc length
     /// is exact.
+    /// Lengths that overflow are an error, not an endless distribution of elements.
+    #[test]
+    fn huge_pieces_are_rejected() {
+        let arc = [Piece::Arc {
+            direction: Some(Vector3::x()),
+            radius: 1.7e308,
+            angle: PI,
+            bend_axis: Vector3::z(),
+        }];
+        let err = mesh_centreline(Vector3::zeros(), &arc, 4, "n", "c").unwrap_err();
+        assert!(err.contains("c[0]"), "{err}");
+    }
+
     #[test]
     fn arcs_lie_on_their_circle() {
         let arc = [Piece::Arc {

@@ -16,6 +16,7 @@ pub use tables::CommonTables;
 
 use crate::kinds::{self, BodyKind, KindScene};
 use crate::variables::IoVariable;
+use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::sync::Arc;
 
@@ -76,9 +77,14 @@ fn select_kind(tables: &toml::Table) -> Result<&'static dyn BodyKind, String> {
 
 /// Deserializes the tables of a scene of kind `kind` strictly: an unknown, misplaced,
 /// missing or mistyped key is an error that names the key, its table, the kind and the line.
-pub fn parse_strict<T: DeserializeOwned>(text: &str, kind: &str) -> Result<T, Vec<String>> {
+/// A table written as an array (`contact = [0.4]`, which serde would read by position) is
+/// rejected too.
+pub fn parse_strict<T: DeserializeOwned + Serialize>(
+    text: &str,
+    kind: &str,
+) -> Result<T, Vec<String>> {
     let de = toml::de::Deserializer::parse(text).map_err(|e| vec![e.to_string()])?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let tables: T = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.inner();
         let line = inner
@@ -106,7 +112,51 @@ pub fn parse_strict<T: DeserializeOwned>(text: &str, kind: &str) -> Result<T, Ve
             "kind \"{kind}\", {place}: {}{line}",
             inner.message().trim_end()
         )]
-    })
+    })?;
+    // Compare the shape of the file with what was read: a table must be written as a table.
+    let mut errs = Vec::new();
+    if let (Ok(raw), Ok(read)) = (
+        toml::from_str::<toml::Value>(text),
+        toml::Value::try_from(&tables),
+    ) {
+        same_shape(&raw, &read, "", kind, &mut errs);
+    }
+    if errs.is_empty() {
+        Ok(tables)
+    } else {
+        Err(errs)
+    }
+}
+
+/// Records every place where `raw` (the file) has an array and `read` (the tables as the
+/// kind read them) a table.
+fn same_shape(
+    raw: &toml::Value,
+    read: &toml::Value,
+    path: &str,
+    kind: &str,
+    errs: &mut Vec<String>,
+) {
+    use toml::Value::{Array, Table};
+    match (raw, read) {
+        (Array(_), Table(_)) => errs.push(format!(
+            "kind \"{kind}\", table [{path}]: written as an array; write it as a table ([{path}] with key = value lines)"
+        )),
+        (Table(r), Table(t)) => {
+            for (k, rv) in r {
+                if let Some(tv) = t.get(k) {
+                    let sub = if path.is_empty() { k.clone() } else { format!("{path}.{k}") };
+                    same_shape(rv, tv, &sub, kind, errs);
+                }
+            }
+        }
+        (Array(r), Array(t)) if r.len() == t.len() => {
+            for (i, (rv, tv)) in r.iter().zip(t).enumerate() {
+                same_shape(rv, tv, &format!("{path}[{i}]"), kind, errs);
+            }
+        }
+        _ => {}
+    }
 }
 
 impl Scene {

@@ -7,7 +7,7 @@
 use serde::Deserialize;
 
 /// `[initial]`: a rigid initial motion of the whole body.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSection {
     /// Angular velocity about the body's first end (counter-clockwise) [rad/s]; exposed as the
@@ -17,7 +17,7 @@ pub struct InitialSection {
 }
 
 /// `[fmu]`
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FmuSection {
     /// `modelName` and `modelIdentifier` (file name of the shared library); letters, digits
@@ -29,7 +29,7 @@ pub struct FmuSection {
 }
 
 /// `[experiment]`: the DefaultExperiment.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentSection {
     /// [s]
@@ -61,7 +61,7 @@ impl Default for ExperimentSection {
 }
 
 /// `[mesh]`
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshSection {
     /// Number of elements along the body.
@@ -69,7 +69,7 @@ pub struct MeshSection {
 }
 
 /// Integer code or name of a choice parameter.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize, PartialEq)]
 #[serde(untagged)]
 pub enum Choice {
     /// The integer code of the FMU parameter.
@@ -79,7 +79,7 @@ pub enum Choice {
 }
 
 /// `[solver]`
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSection {
     /// Solve the static equilibrium during initialization.
@@ -159,7 +159,7 @@ impl Default for SolverSection {
 }
 
 /// Kind of support.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum SupportKind {
     /// Position and gradient fixed.
@@ -171,7 +171,7 @@ pub enum SupportKind {
 }
 
 /// A global direction.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum Axis {
     /// Global x.
@@ -181,7 +181,7 @@ pub enum Axis {
 }
 
 /// `[[supports]]`
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SupportSpec {
     /// Clamp, pin or roller.
@@ -194,7 +194,7 @@ pub struct SupportSpec {
 }
 
 /// `[[motions]]`: a node whose position is prescribed by inputs (motion in, force out).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotionSpec {
     /// Variable prefix: inputs `<name>.x`, `<name>.y` [m], `<name>.vx`, `<name>.vy` [m/s];
@@ -205,7 +205,7 @@ pub struct MotionSpec {
 }
 
 /// Quantities a probe can output.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum ProbeQuantity {
     /// Position x [m].
@@ -249,7 +249,7 @@ impl ProbeQuantity {
 }
 
 /// `[[probes]]`: outputs at a point of the centre line.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ProbeSpec {
     /// Variable prefix (`<name>.x`, ...).
@@ -266,7 +266,7 @@ fn default_probe_quantities() -> Vec<ProbeQuantity> {
 }
 
 /// `[gravity]` of a planar scene.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Gravity2d {
     /// [m/s2]
@@ -278,7 +278,7 @@ pub struct Gravity2d {
 }
 
 /// `[gravity]` of a 3D scene.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Gravity3d {
     /// [m/s2]
@@ -293,7 +293,7 @@ pub struct Gravity3d {
 }
 
 /// `[outputs]` of kinds whose only optional outputs are the energies.
-#[derive(Clone, Debug, Default, Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct EnergyOutputs {
     /// Expose `energy.kinetic`, `energy.potential`, `energy.strain`, `energy.total` [J].
@@ -303,7 +303,7 @@ pub struct EnergyOutputs {
 
 /// The tables every kind has, read from any scene file without checking the rest (the kind
 /// reads them again, strictly).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 pub struct CommonTables {
     /// FMU identity.
     pub fmu: FmuSection,

@@ -63,7 +63,7 @@ impl KindScene for Beam2dScene {
 }
 
 /// A `beam_2d` scene file.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Beam2dScene {
     /// `kind = "beam_2d"` (optional: the element type says it).
@@ -110,7 +110,7 @@ pub struct Beam2dScene {
 }
 
 /// The element of a planar beam (one so far).
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 pub enum Beam2dElementType {
     /// Seed 000: linear shear-deformable 2D ANCF beam (4 coordinates per node).
     #[default]
@@ -119,7 +119,7 @@ pub enum Beam2dElementType {
 }
 
 /// `[element]` of a planar beam.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Beam2dElement {
     /// Element family.
@@ -158,7 +158,7 @@ fn default_shear_coefficient() -> f64 {
 }
 
 /// `[geometry]`: a straight rectangular beam.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GeometrySection {
     /// [m]
@@ -176,7 +176,7 @@ pub struct GeometrySection {
 }
 
 /// `[material]`
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct MaterialSection {
@@ -189,7 +189,7 @@ pub struct MaterialSection {
 }
 
 /// `[[loads]]`: a fixed-direction force input at a point of the centre line.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Load2d {
     /// Variable prefix (`<name>.fx`, `<name>.fy`).

@@ -64,7 +64,7 @@ impl KindScene for Beam3dScene {
 }
 
 /// A `beam_3d` scene file.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Beam3dScene {
     /// `kind = "beam_3d"` (optional: the element type says it).
@@ -105,7 +105,7 @@ pub struct Beam3dScene {
 }
 
 /// The element of a 3D beam (one so far).
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 pub enum Beam3dElementType {
     /// Seed 003: two-node co-rotational 3D beam (6 coordinates per node).
     #[default]
@@ -114,7 +114,7 @@ pub enum Beam3dElementType {
 }
 
 /// `[element]` of a 3D beam.
-#[derive(Clone, Debug, Default, Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Beam3dElement {
     /// Element family.
@@ -129,7 +129,7 @@ pub struct Beam3dElement {
 }
 
 /// `[[loads]]` of a 3D beam: force and moment inputs at a node.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Load3d {
     /// Variable prefix (`<name>.fx`, ..., `<name>.mz`).
@@ -163,7 +163,7 @@ pub struct Load3d {
 
 /// `[section]`: section properties of a co-rotational beam, as beam users give them (the
 /// names are the FMU parameters `section.EA`, ...).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct SectionTable {
@@ -191,7 +191,7 @@ pub struct SectionTable {
 
 /// `[centreline]`: the reference centre line of a 3D beam, piece by piece from `start`
 /// (not parameters).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CentrelineSection {
     /// Start point [m].
@@ -207,7 +207,7 @@ pub struct CentrelineSection {
 
 /// `[[centreline.segments]]`: a straight piece (`length`) or a circular arc (`radius`,
 /// `angle_deg`, `bend_axis`).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SegmentSpec {
     /// Start tangent (required for the first piece; default: the end tangent of the previous

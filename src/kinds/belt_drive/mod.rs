@@ -61,7 +61,7 @@ impl KindScene for BeltDriveScene {
 }
 
 /// A `belt_drive` scene file.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BeltDriveScene {
     /// `kind = "belt_drive"` (optional: `[belt]` and `[[pulley]]` say it).
@@ -95,7 +95,7 @@ pub struct BeltDriveScene {
 }
 
 /// Belt element families.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 pub enum BeltElementType {
     /// Gradient-deficient ANCF cable (r, r' per node, cubic Hermite).
     #[default]
@@ -107,7 +107,7 @@ pub enum BeltElementType {
 }
 
 /// `[element]` of a belt drive.
-#[derive(Clone, Debug, Default, Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BeltElement {
     /// Element family (the parameter `belt.element`).
@@ -116,7 +116,7 @@ pub struct BeltElement {
 }
 
 /// `[outputs]` of a belt drive.
-#[derive(Clone, Debug, Default, Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BeltOutputs {
     /// Expose `energy.kinetic`, `energy.potential`, `energy.strain`, `energy.total`,
@@ -130,7 +130,7 @@ pub struct BeltOutputs {
 }
 
 /// `[belt]`: the belt as datasheets give it.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct BeltSection {
@@ -162,7 +162,7 @@ fn default_belt_integration() -> Choice {
 }
 
 /// `[contact]`: belt–pulley contact; stiffness and damping 0 mean "derived from the belt".
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
     /// Coulomb friction coefficient [1].
@@ -186,7 +186,7 @@ fn default_contact_points() -> i64 {
 }
 
 /// How a pulley moves.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum PulleyMode {
     /// Angle and angular velocity are inputs; the belt torque is an output.
@@ -196,7 +196,7 @@ pub enum PulleyMode {
 }
 
 /// `[[pulley]]`
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PulleySpec {
     /// Centre [m] (for two pulleys the distance is the parameter `pulleys.center_distance`,
