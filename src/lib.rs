@@ -10,6 +10,8 @@
 //! scene-specific models in [`model`]. What the `flexfmu check` command does is in [`cli`].
 #![warn(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
+// Only the C ABI shims in `fmi2` may use `unsafe`; everything else is safe Rust.
+#![deny(unsafe_code)]
 // Numeric kernels index several arrays with one loop variable; iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
 
@@ -17,6 +19,7 @@ pub mod assembly;
 pub mod cli;
 pub mod contact;
 pub mod elements;
+#[allow(unsafe_code)]
 pub mod fmi2;
 pub mod guid;
 pub mod instance;

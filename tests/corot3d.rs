@@ -55,12 +55,12 @@ fn cantilever_frequencies_at_16_elements() {
     for (theory, tiny_rotary, tol) in [(2, false, 5e-3), (1, true, 1e-4)] {
         for mass in [1, 2] {
             let mut p = ParamValues::defaults(&sc.params);
-            p.set("element.mass", Value::Integer(mass));
-            p.set("element.theory", Value::Integer(theory));
+            set_param(&mut p, "element.mass", Value::Integer(mass));
+            set_param(&mut p, "element.theory", Value::Integer(theory));
             if tiny_rotary {
-                p.set("section.rhoJx", Value::Real(2e-9));
-                p.set("section.rhoIy", Value::Real(1e-9));
-                p.set("section.rhoIz", Value::Real(1e-9));
+                set_param(&mut p, "section.rhoJx", Value::Real(2e-9));
+                set_param(&mut p, "section.rhoIy", Value::Real(1e-9));
+                set_param(&mut p, "section.rhoIz", Value::Real(1e-9));
             }
             let mut m = Beam3d::build(sc.tables::<Beam3dScene>().unwrap(), &p).unwrap();
             let w = frequencies(&mut m);
@@ -459,7 +459,7 @@ fn free_flight_conserves_energy_over_many_revolutions() {
     let [fx, my, mz] = ["load.fx", "load.my", "load.mz"].map(|n| common::input_index(&sc, n));
     for (code, bound) in [(2, 1e-4), (3, 5e-5)] {
         let mut p = ParamValues::defaults(&sc.params);
-        p.set("solver.integrator", Value::Integer(code));
+        set_param(&mut p, "solver.integrator", Value::Integer(code));
         let mut m = Beam3d::build(sc.tables::<Beam3dScene>().unwrap(), &p).unwrap();
         let integ = Integrator::from_code(code, 1.0);
         let mut ws = Workspace::new(&m, SolverKind::Auto).unwrap();
@@ -581,7 +581,7 @@ fn model_jacobian_matches_finite_differences() {
     for (mass, soft) in [(1, false), (2, false), (1, true), (2, true)] {
         let sc = Scene::from_toml(&text).unwrap();
         let mut p = ParamValues::defaults(&sc.params);
-        p.set("element.mass", Value::Integer(mass));
+        set_param(&mut p, "element.mass", Value::Integer(mass));
         if soft {
             use flexfmu::kinds::beam_3d::scene::names::*;
             for name in [
@@ -592,7 +592,8 @@ fn model_jacobian_matches_finite_differences() {
                 SECTION_EIY,
                 SECTION_EIZ,
             ] {
-                p.set(name, Value::Real(p.real(name) * 1e-7));
+                let softer = p.real(name) * 1e-7;
+                set_param(&mut p, name, Value::Real(softer));
             }
         }
         let mut m = Beam3d::build(sc.tables::<Beam3dScene>().unwrap(), &p).unwrap();

@@ -1,4 +1,5 @@
 //! `flexfmu`: build FMUs from scene files.
+#![deny(unsafe_code)]
 
 use clap::{Parser, Subcommand};
 use flexfmu::cli::check_path;

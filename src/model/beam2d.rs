@@ -353,7 +353,13 @@ impl Beam2d {
                     (p, pd) = (self.q[i], self.v[i]);
                 }
                 if let Some(q) = q.as_deref_mut() {
-                    q[i] = self.q0[i] + lambda * (p - self.q0[i]);
+                    // exactly `p` when fully applied: q0 + (p - q0) can differ from p in the
+                    // last bit, and `port_force` relies on q = p at the committed state
+                    q[i] = if lambda == 1.0 {
+                        p
+                    } else {
+                        self.q0[i] + lambda * (p - self.q0[i])
+                    };
                 }
                 if let Some(v) = v.as_deref_mut() {
                     v[i] = pd;
