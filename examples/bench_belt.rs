@@ -86,5 +86,5 @@ fn main() {
         "{n_el} elements: initialization {init:.3} s, {t_end} s simulated in {wall:.3} s: real-time factor {:.2}",
         t_end / wall
     );
-    inst.terminate();
+    assert_eq!(inst.terminate(), Status::Ok);
 }

@@ -18,8 +18,9 @@ use flexfmu::elements::corotational3d::{
     BeamSection, Corot3d, MassModel, Mat12, Nodes, Rates, Theory, Vec12,
 };
 use flexfmu::elements::rotation::exp_so3;
+use flexfmu::kinds::beam_3d::Beam3dScene;
 use flexfmu::linalg::SolverKind;
-use flexfmu::model::corot3d::Corot3dModel;
+use flexfmu::model::corot3d::Beam3d;
 use flexfmu::model::{JacobianCoeffs, MechanicalSystem, Model, build_model};
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::solver::newton::Workspace;
@@ -59,7 +60,7 @@ fn cost(n: usize, mass: i32) -> Cost {
     let mut p = ParamValues::defaults(&sc.params);
     p.set("mesh.n_elements", Value::Integer(n as i32));
     p.set("element.mass", Value::Integer(mass));
-    let mut m = Corot3dModel::build(&sc.file, &p).unwrap();
+    let mut m = Beam3d::build(sc.tables::<Beam3dScene>().unwrap(), &p).unwrap();
     let nf = m.n_free();
     let (mut q, mut v) = (vec![0.0; nf], vec![0.0; nf]);
     m.free_state(&mut q, &mut v);

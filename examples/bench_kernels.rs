@@ -165,10 +165,10 @@ fn main() {
             0,
         );
         assert!(!c.is_null());
-        fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0);
-        fmi2SetInteger(c, [vr_n].as_ptr(), 1, [1].as_ptr());
-        fmi2EnterInitializationMode(c);
-        fmi2ExitInitializationMode(c);
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), FMI2_OK);
+        assert_eq!(fmi2SetInteger(c, [vr_n].as_ptr(), 1, [1].as_ptr()), FMI2_OK);
+        assert_eq!(fmi2EnterInitializationMode(c), FMI2_OK);
+        assert_eq!(fmi2ExitInitializationMode(c), FMI2_OK);
         let mut t = 0.0;
         let h = 1e-4;
         let per = time_it(0.5, || {

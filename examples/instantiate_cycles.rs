@@ -60,7 +60,7 @@ fn main() {
             // an error path too: unknown value reference, then reset
             let vr = [9999u32];
             let mut x = [0.0];
-            let _ = fmi2GetReal(c, vr.as_ptr(), 1, x.as_mut_ptr());
+            bad += (fmi2GetReal(c, vr.as_ptr(), 1, x.as_mut_ptr()) != FMI2_ERROR) as i32;
             bad += (fmi2Reset(c) != FMI2_OK) as i32;
             fmi2FreeInstance(c);
         }

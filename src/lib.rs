@@ -7,25 +7,32 @@
 //!
 //! Physics: element kernels in [`elements`], global assembly in [`assembly`], linear algebra in
 //! [`linalg`], static and dynamic solvers in [`solver`] and [`integrators`], and the
-//! scene-specific models in [`model`].
+//! scene-specific models in [`model`]. What the `flexfmu check` command does is in [`cli`].
 #![warn(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
+// Only the C ABI shims in `fmi2` may use `unsafe`; everything else is safe Rust.
+#![deny(unsafe_code)]
 // Numeric kernels index several arrays with one loop variable; iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
+pub mod cli;
 pub mod contact;
 pub mod elements;
+#[allow(unsafe_code)]
 pub mod fmi2;
 pub mod guid;
 pub mod instance;
 pub mod integrators;
+pub mod kinds;
 pub mod linalg;
 pub mod logging;
+pub mod meshers;
 pub mod model;
 pub mod model_description;
 pub mod packaging;
 pub mod scene;
 pub mod snapshot;
 pub mod solver;
+pub mod units;
 pub mod variables;

@@ -5,6 +5,10 @@
 //! their category is enabled (`loggingOn`, `fmi2SetDebugLogging`).
 
 /// Status of a message, mirroring fmi2Status.
+///
+/// `#[must_use]`: a status that nobody looks at hides a rejected call (a parameter that was
+/// refused silently runs at its default).
+#[must_use = "a discarded status hides a rejected FMI call"]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Status {
     /// fmi2OK

@@ -4,8 +4,9 @@
 
 use crate::guid::guid_of;
 use crate::logging::CATEGORIES;
-use crate::scene::{Scene, SceneKind};
-use crate::variables::{Causality, VarType, VariableTable, unit_exponents};
+use crate::scene::Scene;
+use crate::units::Unit;
+use crate::variables::{Causality, VarType, VariableTable};
 use quick_xml::Writer;
 use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, Event};
 
@@ -26,29 +27,17 @@ pub struct Capabilities {
     pub directional_derivative: bool,
 }
 
-/// What an FMU of a scene kind supports.
-pub fn capabilities(kind: SceneKind) -> Capabilities {
-    match kind {
-        SceneKind::Beam2d => Capabilities {
-            variable_step: true,
-            interpolate_inputs: true,
-            max_output_derivative_order: 1,
-            get_set_state: true,
-            serialize_state: true,
-            directional_derivative: true,
-        },
-        // No analytic output rates and no input interpolation (3D beams: not yet; belt drives:
-        // pulley inputs are smooth signals set every step); state and derivatives are generic
-        // (the models save their orientations and loads, or their contact history).
-        SceneKind::Corot3d | SceneKind::BeltDrive => Capabilities {
-            variable_step: true,
-            interpolate_inputs: false,
-            max_output_derivative_order: 0,
-            get_set_state: true,
-            serialize_state: true,
-            directional_derivative: true,
-        },
-    }
+impl Capabilities {
+    /// Every optional FMI 2.0 Co-Simulation feature flexfmu implements (maxOutputDerivativeOrder
+    /// 1).
+    pub const ALL: Capabilities = Capabilities {
+        variable_step: true,
+        interpolate_inputs: true,
+        max_output_derivative_order: 1,
+        get_set_state: true,
+        serialize_state: true,
+        directional_derivative: true,
+    };
 }
 
 const GUID_PLACEHOLDER: &str = "{00000000-0000-0000-0000-000000000000}";
@@ -78,10 +67,10 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
     let io = |r: std::io::Result<()>| r.expect("writing XML to memory cannot fail");
     io(w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None))));
     let name = scene.model_name();
-    let description = if scene.file.fmu.description.is_empty() {
+    let description = if scene.common.fmu.description.is_empty() {
         "flexfmu flexible body".to_string()
     } else {
-        scene.file.fmu.description.clone()
+        scene.common.fmu.description.clone()
     };
     let version = format!("flexfmu {}", env!("CARGO_PKG_VERSION"));
     io(w.write_event(Event::Start(
@@ -96,7 +85,7 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
         ]),
     )));
 
-    let c = capabilities(scene.kind);
+    let c = Capabilities::ALL;
     let order = c.max_output_derivative_order.to_string();
     io(w.write_event(Event::Empty(
         BytesStart::new("CoSimulation").with_attributes([
@@ -116,12 +105,11 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
 
     io(w.write_event(Event::Start(BytesStart::new("UnitDefinitions"))));
     for unit in vars.units() {
-        let (kg, m, s) = unit_exponents(unit).expect("every unit used is tabulated");
         io(w.write_event(Event::Start(
-            BytesStart::new("Unit").with_attributes([("name", unit)]),
+            BytesStart::new("Unit").with_attributes([("name", unit.name())]),
         )));
         let mut base = BytesStart::new("BaseUnit");
-        for (k, e) in [("kg", kg), ("m", m), ("s", s)] {
+        for (k, e) in Unit::BASE.into_iter().zip(unit.exponents()) {
             if e != 0 {
                 base.push_attribute((k, e.to_string().as_str()));
             }
@@ -139,7 +127,7 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
     }
     io(w.write_event(Event::End(BytesEnd::new("LogCategories"))));
 
-    let e = &scene.file.experiment;
+    let e = &scene.common.experiment;
     let (t0, t1, dt) = (
         format!("{:?}", e.start_time),
         format!("{:?}", e.stop_time),
@@ -174,7 +162,7 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
         };
         let mut t = BytesStart::new(tag);
         if let Some(u) = v.unit {
-            t.push_attribute(("unit", u));
+            t.push_attribute(("unit", u.name()));
         }
         let fmt_bound = |x: f64| match v.ty {
             VarType::Integer => format!("{}", x as i64),
@@ -206,11 +194,24 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
         io(w.write_event(Event::Start(BytesStart::new("Outputs"))));
         for v in &outputs {
             let idx = (v.vr + 1).to_string();
-            // Outputs are functions of the state only: no direct feedthrough from the inputs.
-            io(w.write_event(Event::Empty(
-                BytesStart::new("Unknown")
-                    .with_attributes([("index", idx.as_str()), ("dependencies", "")]),
-            )));
+            // Direct feedthrough at a communication point (FMI 2.0.4 section 2.2.8): the
+            // inputs whose change moves the output before the next fmi2DoStep, as the variable
+            // table declares them (ScalarVariable index = value reference + 1, ascending).
+            // Empty: the output is a function of the state only. No `dependenciesKind`: the
+            // default "dependent" is the true statement, since the factors (e.g. the interface
+            // stiffness of a motion port) depend on the continuous state.
+            let deps = v
+                .depends_on
+                .iter()
+                .map(|d| (d + 1).to_string())
+                .collect::<Vec<_>>()
+                .join(" ");
+            io(
+                w.write_event(Event::Empty(BytesStart::new("Unknown").with_attributes([
+                    ("index", idx.as_str()),
+                    ("dependencies", deps.as_str()),
+                ]))),
+            );
         }
         io(w.write_event(Event::End(BytesEnd::new("Outputs"))));
         io(w.write_event(Event::Start(BytesStart::new("InitialUnknowns"))));

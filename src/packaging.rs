@@ -8,19 +8,45 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
 
-/// FMI 2.0 platform folder and library extension of the machine flexfmu was built for.
-pub fn platform() -> (&'static str, &'static str) {
-    if cfg!(all(target_os = "linux", target_pointer_width = "64")) {
-        ("linux64", "so")
-    } else if cfg!(all(target_os = "linux", target_pointer_width = "32")) {
-        ("linux32", "so")
-    } else if cfg!(target_os = "macos") {
-        ("darwin64", "dylib")
-    } else if cfg!(all(target_os = "windows", target_pointer_width = "64")) {
-        ("win64", "dll")
-    } else {
-        ("win32", "dll")
-    }
+/// The `binaries/` folder and library extension of a platform, given as Rust's
+/// `std::env::consts::ARCH` and `OS` names.
+///
+/// FMI 2.0.4, section 2.3 ("FMU Distribution", directory `binaries`): the standardized names
+/// are "win32", "win64", "linux32", "linux64", "darwin32", "darwin64", "where 32 stands for
+/// 32-bit x86 and 64 for 64-bit x86"; "for any other platforms the platform tuples defined in
+/// the FMI 3.0 Specification, 2.5.1.4.1 Platform Tuple Definition ... should be used", which
+/// are `<arch>-<sys>` with arch `aarch32`, `aarch64`, `x86`, `x86_64` and sys `darwin`,
+/// `linux`, `windows`. So an ARM machine (Apple silicon, ARM Linux, Windows on ARM) gets
+/// `aarch64-darwin`, `aarch64-linux`, `aarch64-windows`, never `darwin64`. Other
+/// architectures or systems have no standardized name and are rejected.
+pub fn platform_folder(arch: &str, os: &str) -> Result<(&'static str, &'static str), String> {
+    Ok(match (arch, os) {
+        ("x86", "windows") => ("win32", "dll"),
+        ("x86_64", "windows") => ("win64", "dll"),
+        ("x86", "linux") => ("linux32", "so"),
+        ("x86_64", "linux") => ("linux64", "so"),
+        ("x86", "macos") => ("darwin32", "dylib"),
+        ("x86_64", "macos") => ("darwin64", "dylib"),
+        ("aarch64", "windows") => ("aarch64-windows", "dll"),
+        ("aarch64", "linux") => ("aarch64-linux", "so"),
+        ("aarch64", "macos") => ("aarch64-darwin", "dylib"),
+        ("arm", "windows") => ("aarch32-windows", "dll"),
+        ("arm", "linux") => ("aarch32-linux", "so"),
+        _ => {
+            return Err(format!(
+                "no FMI 2.0 binary folder for architecture \"{arch}\" on \"{os}\": FMI 2.0.4 \
+                 section 2.3 names x86 and x86_64 (win32/64, linux32/64, darwin32/64) and, \
+                 through the FMI 3.0 platform tuples, aarch32 and aarch64 on darwin, linux \
+                 and windows"
+            ));
+        }
+    })
+}
+
+/// FMI 2.0 platform folder and library extension of the machine flexfmu was built for
+/// ([`platform_folder`] of this target).
+pub fn platform() -> Result<(&'static str, &'static str), String> {
+    platform_folder(std::env::consts::ARCH, std::env::consts::OS)
 }
 
 /// File name of the flexfmu shared library cargo builds on this platform.
@@ -71,7 +97,7 @@ pub fn build_fmu(scene: &Scene, library: &Path, out: &Path) -> Result<(), String
     let lib =
         std::fs::read(library).map_err(|e| format!("cannot read {}: {e}", library.display()))?;
     let xml = model_description(scene);
-    let (plat, ext) = platform();
+    let (plat, ext) = platform()?;
     let file =
         std::fs::File::create(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let mut zip = zip::ZipWriter::new(file);
@@ -99,4 +125,63 @@ pub fn build_fmu(scene: &Scene, library: &Path, out: &Path) -> Result<(), String
     }
     zip.finish().map_err(|e| err(&e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn x86_platforms_have_the_fmi2_names() {
+        assert_eq!(platform_folder("x86", "windows"), Ok(("win32", "dll")));
+        assert_eq!(platform_folder("x86_64", "windows"), Ok(("win64", "dll")));
+        assert_eq!(platform_folder("x86", "linux"), Ok(("linux32", "so")));
+        assert_eq!(platform_folder("x86_64", "linux"), Ok(("linux64", "so")));
+        assert_eq!(platform_folder("x86", "macos"), Ok(("darwin32", "dylib")));
+        assert_eq!(
+            platform_folder("x86_64", "macos"),
+            Ok(("darwin64", "dylib"))
+        );
+    }
+
+    #[test]
+    fn arm_platforms_have_platform_tuples() {
+        assert_eq!(
+            platform_folder("aarch64", "macos"),
+            Ok(("aarch64-darwin", "dylib"))
+        );
+        assert_eq!(
+            platform_folder("aarch64", "linux"),
+            Ok(("aarch64-linux", "so"))
+        );
+        assert_eq!(
+            platform_folder("aarch64", "windows"),
+            Ok(("aarch64-windows", "dll"))
+        );
+        assert_eq!(platform_folder("arm", "linux"), Ok(("aarch32-linux", "so")));
+        assert_eq!(
+            platform_folder("arm", "windows"),
+            Ok(("aarch32-windows", "dll"))
+        );
+    }
+
+    #[test]
+    fn unknown_platforms_are_rejected_by_name() {
+        for (arch, os) in [
+            ("riscv64", "linux"),
+            ("powerpc64", "linux"),
+            ("x86_64", "freebsd"),
+            ("wasm32", "unknown"),
+            ("aarch64", "android"),
+        ] {
+            let e = platform_folder(arch, os).unwrap_err();
+            assert!(e.contains(arch) && e.contains(os), "{e}");
+        }
+    }
+
+    #[test]
+    fn this_machine_is_known() {
+        let (folder, ext) = platform().unwrap();
+        assert!(library_file_name().ends_with(ext), "{folder} {ext}");
+    }
 }

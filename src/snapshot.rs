@@ -95,10 +95,10 @@ impl<'a> StateReader<'a> {
     /// A vector of f64 whose length must be `expect` (if given).
     pub fn f64s(&mut self, expect: Option<usize>) -> Result<Vec<f64>, SnapshotError> {
         let n = self.len()?;
-        if let Some(e) = expect {
-            if n != e {
-                return Err(SnapshotError(format!("expected {e} values, found {n}")));
-            }
+        if let Some(e) = expect
+            && n != e
+        {
+            return Err(SnapshotError(format!("expected {e} values, found {n}")));
         }
         (0..n).map(|_| self.f64()).collect()
     }

@@ -3,8 +3,8 @@
 //! ([`crate::instance`]) all derive from this table.
 
 use crate::scene::Scene;
-use crate::scene::file::ProbeQuantity;
 use crate::scene::params::ParamVariability;
+use crate::units::Unit;
 
 /// FMI base type of a variable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -92,129 +92,15 @@ impl Variability {
     }
 }
 
-/// Energy outputs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EnergyKind {
-    /// `energy.kinetic` = ½ vᵀ M v [J]
-    Kinetic,
-    /// `energy.potential` = −Q_gᵀ q, gravity potential relative to the origin [J]
-    Potential,
-    /// `energy.strain` = U [J]
-    Strain,
-    /// `energy.total` = kinetic + potential + strain [J]
-    Total,
-}
-
-/// What a pulley input sets (belt-drive scenes).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PulleyInput {
-    /// `pulleyN.angle`: prescribed angle of a driven pulley [rad].
-    Angle,
-    /// `pulleyN.omega`: prescribed angular velocity of a driven pulley [rad/s].
-    Omega,
-    /// `pulleyN.torque_in`: external torque on a free pulley [N m].
-    Torque,
-}
-
-/// What an input drives.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum InputKind {
-    /// Component `axis` (0 = x, 1 = y, 2 = z) of the force of point load `load` [N].
-    Load {
-        /// Index into the scene's loads.
-        load: usize,
-        /// 0 = x, 1 = y, 2 = z.
-        axis: usize,
-    },
-    /// Component `axis` (0 = x, 1 = y, 2 = z) of the moment of point load `load` [N m]
-    /// (3D scenes).
-    Moment {
-        /// Index into the scene's loads.
-        load: usize,
-        /// 0 = x, 1 = y, 2 = z.
-        axis: usize,
-    },
-    /// Prescribed motion of a port: `component` 0, 1 = position x, y [m]; 2, 3 = velocity
-    /// x, y [m/s].
-    Motion {
-        /// Index into the scene's motion ports.
-        port: usize,
-        /// 0 = x, 1 = y, 2 = vx, 3 = vy.
-        component: usize,
-    },
-    /// A pulley input (belt-drive scenes).
-    Pulley {
-        /// Index of the pulley (0 for `pulley1`).
-        pulley: usize,
-        /// Which quantity.
-        quantity: PulleyInput,
-    },
-}
-
-/// Outputs of belt-drive scenes (pulley indices start at 0 for `pulley1`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BeltOutput {
-    /// `pulleyN.torque`: torque the belt exerts on the pulley about its centre [N m]
-    /// (counter-clockwise positive).
-    PulleyTorque(usize),
-    /// `pulleyN.force_x`: force the belt exerts on the pulley, x [N].
-    PulleyForceX(usize),
-    /// `pulleyN.force_y`: force the belt exerts on the pulley, y [N].
-    PulleyForceY(usize),
-    /// `pulleyN.angle` of a free pulley [rad].
-    PulleyAngle(usize),
-    /// `pulleyN.omega` of a free pulley [rad/s].
-    PulleyOmega(usize),
-    /// `belt.tension_tight`: the larger span tension [N].
-    TensionTight,
-    /// `belt.tension_slack`: the smaller span tension [N].
-    TensionSlack,
-    /// `belt.slip`: `1 − ω_last ρ_last / (ω_1 ρ_1)` (speed loss by creep and slip) [1].
-    Slip,
-    /// `belt.speed`: mean speed of the belt nodes [m/s].
-    Speed,
-    /// `belt.point[i].x` [m].
-    PointX(usize),
-    /// `belt.point[i].y` [m].
-    PointY(usize),
-    /// `energy.input_work`: work of the pulley drives and input torques since t = 0 [J].
-    InputWork,
-    /// `energy.dissipated`: energy dissipated by contact, friction and damping since t = 0 [J].
-    Dissipated,
-}
-
-/// What an output reports.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum OutputKind {
-    /// A probe quantity.
-    Probe {
-        /// Index into the scene's probes.
-        probe: usize,
-        /// Position or velocity component.
-        quantity: ProbeQuantity,
-    },
-    /// An energy.
-    Energy(EnergyKind),
-    /// Force exerted by the body on whatever drives a motion port [N], component `axis`.
-    Reaction {
-        /// Index into the scene's motion ports.
-        port: usize,
-        /// 0 = x, 1 = y.
-        axis: usize,
-    },
-    /// A belt-drive output.
-    Belt(BeltOutput),
-}
-
 /// Role of a variable in the model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Role {
     /// A parameter, by name.
     Parameter(&'static str),
-    /// An input.
-    Input(InputKind),
-    /// An output.
-    Output(OutputKind),
+    /// An input: its index among the scene's inputs (the kind's model knows what it drives).
+    Input(usize),
+    /// An output: its index among the scene's outputs.
+    Output(usize),
 }
 
 /// One FMU variable.
@@ -232,8 +118,8 @@ pub struct Variable {
     pub variability: Variability,
     /// Start value (parameters and inputs).
     pub start: Option<Value>,
-    /// Unit name (Real only), declared in UnitDefinitions.
-    pub unit: Option<&'static str>,
+    /// Unit (Real only), declared in UnitDefinitions.
+    pub unit: Option<Unit>,
     /// Description.
     pub description: String,
     /// Declared minimum.
@@ -259,7 +145,9 @@ impl Variable {
 }
 
 /// An input or output a scene kind declares (parameters come from
-/// [`crate::scene::ParamDef`]).
+/// [`crate::scene::ParamDef`]). Its role is its position among the scene's inputs or outputs;
+/// the kind keeps, in the same order, what each one means to its model
+/// ([`crate::kinds::KindIo`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IoVariable {
     /// Structured name.
@@ -269,51 +157,17 @@ pub struct IoVariable {
     /// Start value (inputs).
     pub start: Option<f64>,
     /// Unit.
-    pub unit: &'static str,
+    pub unit: Unit,
     /// Description.
     pub description: String,
-    /// Role in the model.
-    pub role: Role,
     /// For outputs: the inputs (by name) it depends on directly at a communication point
     /// (direct feedthrough, written as ModelStructure dependencies). Empty: none.
     pub depends_on: Vec<String>,
 }
 
 impl IoVariable {
-    /// A continuous Real input.
-    pub fn input(
-        name: String,
-        start: f64,
-        unit: &'static str,
-        description: String,
-        kind: InputKind,
-    ) -> Self {
-        Self {
-            name,
-            causality: Causality::Input,
-            start: Some(start),
-            unit,
-            description,
-            role: Role::Input(kind),
-            depends_on: vec![],
-        }
-    }
-
-    /// A continuous Real output.
-    pub fn output(name: String, unit: &'static str, description: String, kind: OutputKind) -> Self {
-        Self {
-            name,
-            causality: Causality::Output,
-            start: None,
-            unit,
-            description,
-            role: Role::Output(kind),
-            depends_on: vec![],
-        }
-    }
-
     /// The same output with direct feedthrough from the named inputs.
-    pub fn depending_on(mut self, inputs: &[&str]) -> Self {
+    pub fn depending_on(&mut self, inputs: &[&str]) -> &mut Self {
         self.depends_on = inputs.iter().map(|s| s.to_string()).collect();
         self
     }
@@ -355,7 +209,18 @@ impl VariableTable {
             });
         }
         let first_io = vars.len();
+        let (mut n_in, mut n_out) = (0, 0);
         for v in &scene.io {
+            let role = match v.causality {
+                Causality::Input => {
+                    n_in += 1;
+                    Role::Input(n_in - 1)
+                }
+                _ => {
+                    n_out += 1;
+                    Role::Output(n_out - 1)
+                }
+            };
             vars.push(Variable {
                 name: v.name.clone(),
                 vr: vars.len() as u32,
@@ -367,7 +232,7 @@ impl VariableTable {
                 description: v.description.clone(),
                 min: None,
                 max: None,
-                role: v.role,
+                role,
                 depends_on: vec![],
             });
         }
@@ -406,8 +271,8 @@ impl VariableTable {
     }
 
     /// Units used by the variables, in first-use order.
-    pub fn units(&self) -> Vec<&'static str> {
-        let mut out: Vec<&'static str> = Vec::new();
+    pub fn units(&self) -> Vec<Unit> {
+        let mut out: Vec<Unit> = Vec::new();
         for u in self.vars.iter().filter_map(|v| v.unit) {
             if !out.contains(&u) {
                 out.push(u);
@@ -415,33 +280,4 @@ impl VariableTable {
         }
         out
     }
-}
-
-/// SI base-unit exponents `(kg, m, s)` of the units flexfmu uses.
-pub fn unit_exponents(unit: &str) -> Option<(i32, i32, i32)> {
-    Some(match unit {
-        "1" => (0, 0, 0),
-        "m" => (0, 1, 0),
-        "s" => (0, 0, 1),
-        "m/s" => (0, 1, -1),
-        "m/s2" => (0, 1, -2),
-        "rad/s" => (0, 0, -1),
-        "N" => (1, 1, -2),
-        "Pa" => (1, -1, -2),
-        "J" => (1, 2, -2),
-        "kg/m3" => (1, -3, 0),
-        "N.m" => (1, 2, -2),
-        "N.m2" => (1, 3, -2),
-        "kg/m" => (1, -1, 0),
-        "kg.m" => (1, 1, 0),
-        // radians are dimensionless in SI base units
-        "rad" => (0, 0, 0),
-        "kg.m2" => (1, 2, 0),
-        "N.m.s/rad" => (1, 2, -1),
-        "N/m2" => (1, -1, -2),
-        "N.s/m2" => (1, -1, -1),
-        "N.s" => (1, 1, -1),
-        "N.m2.s" => (1, 3, -1),
-        _ => return None,
-    })
 }

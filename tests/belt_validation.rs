@@ -11,6 +11,8 @@
 
 use flexfmu::elements::ancf_cable2d::{CableRule, CableSection};
 use flexfmu::integrators::{GeneralizedAlpha, Integrator};
+use flexfmu::kinds::belt_drive::scene::{BeltOutput, Output, PulleyInput};
+use flexfmu::kinds::energy::EnergyKind;
 use flexfmu::linalg::SolverKind;
 use flexfmu::model::Model;
 use flexfmu::model::belt_drive::{
@@ -18,7 +20,6 @@ use flexfmu::model::belt_drive::{
 };
 use flexfmu::solver::newton::{NewtonPolicy, NewtonSettings};
 use flexfmu::solver::simulation::{Simulation, SolverConfig};
-use flexfmu::variables::{BeltOutput, EnergyKind, InputKind, OutputKind, PulleyInput};
 use nalgebra::Vector2;
 use std::f64::consts::PI;
 
@@ -42,8 +43,8 @@ fn config(rho_inf: f64, h: f64) -> SolverConfig {
     }
 }
 
-fn input(pulley: usize, quantity: PulleyInput) -> InputKind {
-    InputKind::Pulley { pulley, quantity }
+fn input(sim: &mut Simulation, pulley: usize, quantity: PulleyInput, value: f64) {
+    drive_mut(sim).set_pulley_input(pulley, quantity, value)
 }
 
 /// A belt over a fixed drum of radius 0.1 m (wrap φ = π, μ = 0.3), both ends hanging down and
@@ -253,9 +254,9 @@ impl Drive {
             let ramp = |t: f64| (t / 0.3).min(1.0);
             let w0 = self.omega * ramp(t);
             let w1 = self.omega * ramp(t + h);
-            sim.set_input(input(0, PulleyInput::Angle), angle);
-            sim.set_input(input(0, PulleyInput::Omega), 0.5 * (w0 + w1));
-            sim.set_input(input(1, PulleyInput::Torque), -self.load * ramp(t));
+            input(&mut sim, 0, PulleyInput::Angle, angle);
+            input(&mut sim, 0, PulleyInput::Omega, 0.5 * (w0 + w1));
+            input(&mut sim, 1, PulleyInput::Torque, -self.load * ramp(t));
             sim.advance(t + h)
                 .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
             angle += 0.5 * (w0 + w1) * h;
@@ -264,8 +265,18 @@ impl Drive {
     }
 }
 
+fn drive(sim: &Simulation) -> &BeltDrive {
+    sim.model_as::<BeltDrive>()
+        .expect("a belt-drive simulation")
+}
+
+fn drive_mut(sim: &mut Simulation) -> &mut BeltDrive {
+    sim.model_as_mut::<BeltDrive>()
+        .expect("a belt-drive simulation")
+}
+
 fn belt(sim: &Simulation, o: BeltOutput) -> f64 {
-    sim.output(OutputKind::Belt(o))
+    drive(sim).output_of(Output::Belt(o))
 }
 
 /// Steady drive, averaged over the last 0.2 s of 1.2 s: torque balance (T1 − T2) ρ against
@@ -324,7 +335,7 @@ fn energy_balance() {
     let mut first = None;
     let mut last = (0.0, 0.0, 0.0);
     d.run(1.0, 5e-4, 0.6, |_t, sim| {
-        let e = sim.output(OutputKind::Energy(EnergyKind::Total));
+        let e = drive(sim).output_of(Output::Energy(EnergyKind::Total));
         if first.is_none() {
             first = Some(e);
         }

@@ -6,13 +6,14 @@
 mod common;
 use common::*;
 use flexfmu::integrators::{DynState, Integrator};
+use flexfmu::kinds::beam_3d::Beam3dScene;
 use flexfmu::linalg::SolverKind;
-use flexfmu::model::corot3d::Corot3dModel;
+use flexfmu::model::corot3d::Beam3d;
 use flexfmu::model::{JacobianCoeffs, MechanicalSystem, Model};
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::solver::newton::{NewtonPolicy, NewtonSettings, Workspace};
 use flexfmu::solver::simulation::Simulation;
-use flexfmu::variables::{InputKind, Role, Value, VariableTable};
+use flexfmu::variables::{Role, Value, VariableTable};
 use std::f64::consts::PI;
 
 fn input(scene: &Scene, sim: &mut Simulation, name: &str, value: f64) {
@@ -24,7 +25,7 @@ fn input(scene: &Scene, sim: &mut Simulation, name: &str, value: f64) {
 
 /// Natural frequencies [rad/s] of the linearised model at its committed state: the generalized
 /// symmetric eigenproblem `K φ = ω² M φ` from the assembled iteration matrices.
-fn frequencies(m: &mut Corot3dModel) -> Vec<f64> {
+fn frequencies(m: &mut Beam3d) -> Vec<f64> {
     let (mm, kk) = m.dense_matrices();
     let l = mm.cholesky().expect("mass matrix positive definite");
     let li = l.l().try_inverse().unwrap();
@@ -54,14 +55,14 @@ fn cantilever_frequencies_at_16_elements() {
     for (theory, tiny_rotary, tol) in [(2, false, 5e-3), (1, true, 1e-4)] {
         for mass in [1, 2] {
             let mut p = ParamValues::defaults(&sc.params);
-            p.set("element.mass", Value::Integer(mass));
-            p.set("element.theory", Value::Integer(theory));
+            set_param(&mut p, "element.mass", Value::Integer(mass));
+            set_param(&mut p, "element.theory", Value::Integer(theory));
             if tiny_rotary {
-                p.set("section.rhoJx", Value::Real(2e-9));
-                p.set("section.rhoIy", Value::Real(1e-9));
-                p.set("section.rhoIz", Value::Real(1e-9));
+                set_param(&mut p, "section.rhoJx", Value::Real(2e-9));
+                set_param(&mut p, "section.rhoIy", Value::Real(1e-9));
+                set_param(&mut p, "section.rhoIz", Value::Real(1e-9));
             }
-            let mut m = Corot3dModel::build(&sc.file, &p).unwrap();
+            let mut m = Beam3d::build(sc.tables::<Beam3dScene>().unwrap(), &p).unwrap();
             let w = frequencies(&mut m);
             // bending modes come in pairs (y and z); torsion and axial are far higher
             for (k, target) in targets.iter().enumerate() {
@@ -420,7 +421,7 @@ follower = true
 "#;
 
 /// Solves `M acc = −r(q, v, 0)` for consistent accelerations.
-fn restart(m: &mut Corot3dModel, ws: &mut Workspace, s: &mut DynState) {
+fn restart(m: &mut Beam3d, ws: &mut Workspace, s: &mut DynState) {
     let zeros = vec![0.0; s.q.len()];
     let c = JacobianCoeffs {
         mass: 1.0,
@@ -455,10 +456,11 @@ fn restart(m: &mut Corot3dModel, ws: &mut Workspace, s: &mut DynState) {
 #[test]
 fn free_flight_conserves_energy_over_many_revolutions() {
     let sc = Scene::from_toml(FLYING).unwrap();
+    let [fx, my, mz] = ["load.fx", "load.my", "load.mz"].map(|n| common::input_index(&sc, n));
     for (code, bound) in [(2, 1e-4), (3, 5e-5)] {
         let mut p = ParamValues::defaults(&sc.params);
-        p.set("solver.integrator", Value::Integer(code));
-        let mut m = Corot3dModel::build(&sc.file, &p).unwrap();
+        set_param(&mut p, "solver.integrator", Value::Integer(code));
+        let mut m = Beam3d::build(sc.tables::<Beam3dScene>().unwrap(), &p).unwrap();
         let integ = Integrator::from_code(code, 1.0);
         let mut ws = Workspace::new(&m, SolverKind::Auto).unwrap();
         let mut s = DynState::zeros(m.n_free(), 0.0);
@@ -484,9 +486,9 @@ fn free_flight_conserves_energy_over_many_revolutions() {
             } else {
                 0.0
             };
-            m.set_input(InputKind::Load { load: 0, axis: 0 }, -20.0 * f);
-            m.set_input(InputKind::Moment { load: 0, axis: 1 }, -100.0 * f);
-            m.set_input(InputKind::Moment { load: 0, axis: 2 }, 200.0 * f);
+            m.set_input(fx, -20.0 * f);
+            m.set_input(my, -100.0 * f);
+            m.set_input(mz, 200.0 * f);
             if tm < 5.0 + h {
                 restart(&mut m, &mut ws, &mut s);
             }
@@ -579,9 +581,9 @@ fn model_jacobian_matches_finite_differences() {
     for (mass, soft) in [(1, false), (2, false), (1, true), (2, true)] {
         let sc = Scene::from_toml(&text).unwrap();
         let mut p = ParamValues::defaults(&sc.params);
-        p.set("element.mass", Value::Integer(mass));
+        set_param(&mut p, "element.mass", Value::Integer(mass));
         if soft {
-            use flexfmu::scene::corot3d::names::*;
+            use flexfmu::kinds::beam_3d::scene::names::*;
             for name in [
                 SECTION_EA,
                 SECTION_GAY,
@@ -590,10 +592,11 @@ fn model_jacobian_matches_finite_differences() {
                 SECTION_EIY,
                 SECTION_EIZ,
             ] {
-                p.set(name, Value::Real(p.real(name) * 1e-7));
+                let softer = p.real(name) * 1e-7;
+                set_param(&mut p, name, Value::Real(softer));
             }
         }
-        let mut m = Corot3dModel::build(&sc.file, &p).unwrap();
+        let mut m = Beam3d::build(sc.tables::<Beam3dScene>().unwrap(), &p).unwrap();
         let n = m.n_free();
         let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
         m.free_state(&mut q, &mut v);
@@ -739,7 +742,7 @@ fn pinned_beam_swings_with_constant_energy() {
 fn rigid_rotation_beyond_two_pi_through_rebasing() {
     let sc = Scene::from_toml(FLYING).unwrap();
     let p = ParamValues::defaults(&sc.params);
-    let mut m = Corot3dModel::build(&sc.file, &p).unwrap();
+    let mut m = Beam3d::build(sc.tables::<Beam3dScene>().unwrap(), &p).unwrap();
     let n = m.n_free();
     let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
     m.free_state(&mut q, &mut v);

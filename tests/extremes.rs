@@ -6,7 +6,7 @@ use flexfmu::instance::{Instance, StatusKind};
 use flexfmu::logging::Status;
 use flexfmu::variables::Value;
 
-use common::{get, last_message, set};
+use common::{get, last_message, set, set_expect};
 
 fn instance(scene: &str) -> (Instance, common::Log) {
     common::instance(scene, false)
@@ -39,7 +39,7 @@ fn cantilever_static(e: f64, nu: f64, h: f64, n: i32) -> Result<(f64, f64), (Sta
         ("solver.static_equilibrium", Value::Boolean(true)),
         ("load.fy", Value::Real(p)),
     ] {
-        assert_eq!(set(&mut inst, k, v), Status::Ok);
+        set(&mut inst, k, v);
     }
     match init(&mut inst) {
         Status::Ok => {
@@ -288,13 +288,10 @@ fn nan_and_infinite_inputs() {
     for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
         let (mut inst, log) = instance("cantilever");
         assert_eq!(init(&mut inst), Status::Ok);
-        assert_eq!(set(&mut inst, "load.fy", Value::Real(bad)), Status::Error);
+        set_expect(&mut inst, "load.fy", Value::Real(bad), Status::Error);
         assert!(last_message(&log).contains("not a finite number"));
         assert_eq!(inst.reset(), Status::Ok);
-        assert_eq!(
-            set(&mut inst, "material.E", Value::Real(bad)),
-            Status::Error
-        );
+        set_expect(&mut inst, "material.E", Value::Real(bad), Status::Error);
         assert_eq!(inst.reset(), Status::Ok);
         assert_eq!(init(&mut inst), Status::Ok);
         assert_eq!(inst.do_step(0.0, 1e-3), Status::Ok);
@@ -353,5 +350,45 @@ fn explicit_scheme_picks_its_stable_step() {
     );
     if s == Status::Discard {
         assert_eq!(inst.get_boolean_status(StatusKind::Terminated), Ok(true));
+    }
+}
+
+/// A motion input that jumps 98 m within one communication step (found by the FMI fuzzer): the
+/// step-size control would need hundreds of thousands of substeps of nanoseconds (12 s of CPU
+/// for a 1 ms step); it gives up after its budget of substep attempts and says so with
+/// fmi2Discard, the state at the last accepted substep.
+#[test]
+fn violent_motion_input_fails_with_a_budget_of_substeps() {
+    let (mut inst, log) = instance("cantilever_motion");
+    assert_eq!(init(&mut inst), Status::Ok);
+    set(&mut inst, "tip.y", Value::Real(100.0));
+    assert_eq!(inst.do_step(0.0, 1e-3), Status::Discard);
+    assert!(
+        last_message(&log).contains("step size control gave up"),
+        "{}",
+        last_message(&log)
+    );
+    let reached = inst
+        .get_real_status(StatusKind::LastSuccessfulTime)
+        .unwrap();
+    assert!(reached < 1e-3, "reached {reached}");
+    assert_eq!(inst.get_boolean_status(StatusKind::Terminated), Ok(true));
+}
+
+/// A motion-port position set in Initialization Mode away from the reference (found by the FMI
+/// fuzzer): the committed port coordinate is exactly the input, so the port force needs no
+/// extrapolation; `q0 + (p − q0)`, one bit off for p = 0.3, made fmi2ExitInitializationMode
+/// panic (fmi2Fatal).
+#[test]
+fn motion_port_moved_before_initialization() {
+    for x in [0.3, 0.1, 1e-7, 1.9] {
+        let (mut inst, _) = instance("cantilever_motion");
+        assert_eq!(inst.setup_experiment(None, 0.0, None), Status::Ok);
+        assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+        set(&mut inst, "tip.x", Value::Real(x));
+        assert_eq!(inst.exit_initialization_mode(), Status::Ok, "tip.x = {x}");
+        assert!(get(&mut inst, "tip.fx").is_finite());
+        assert_eq!(inst.do_step(0.0, 1e-4), Status::Ok, "tip.x = {x}");
+        assert!(get(&mut inst, "tip.fx").is_finite());
     }
 }

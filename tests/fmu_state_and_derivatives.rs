@@ -7,7 +7,7 @@ use flexfmu::instance::Instance;
 use flexfmu::logging::Status;
 use flexfmu::variables::Value;
 
-use common::{Log, get, set, vr};
+use common::{Log, get, init, run, set, vr};
 
 fn instance(scene: &str) -> (Instance, Log) {
     common::instance(scene, false)
@@ -22,19 +22,6 @@ fn outputs(inst: &mut Instance) -> Vec<u64> {
         .map(|v| v.name.clone())
         .collect();
     names.iter().map(|n| get(inst, n).to_bits()).collect()
-}
-
-fn init(inst: &mut Instance) {
-    assert_eq!(inst.setup_experiment(None, 0.0, None), Status::Ok);
-    assert_eq!(inst.enter_initialization_mode(), Status::Ok);
-    assert_eq!(inst.exit_initialization_mode(), Status::Ok);
-}
-
-fn run(inst: &mut Instance, t0: f64, t1: f64, h: f64) {
-    let n = ((t1 - t0) / h).round() as usize;
-    for k in 0..n {
-        assert_eq!(inst.do_step(t0 + k as f64 * h, h), Status::Ok);
-    }
 }
 
 /// Save at t1, run to t2, restore, run to t2 again: identical outputs bit for bit — directly,
@@ -95,7 +82,7 @@ fn bad_state_buffers_are_rejected() {
     let good = a.save_fmu_state(Call::GetFmuState).unwrap();
     let before = outputs(&mut a);
 
-    // truncated at every length, corrupted bytes, another FMU's state
+    // truncated at every length, corrupted bytes, a trailing byte, another FMU's state
     for cut in [0, 1, 15, 16, 30, good.len() / 2, good.len() - 1] {
         let (mut b, _) = instance("pendulum");
         assert_eq!(
@@ -110,6 +97,11 @@ fn bad_state_buffers_are_rejected() {
         let (mut b, _) = instance("pendulum");
         assert_eq!(b.restore_fmu_state(&bad), Status::Error, "flip at {pos}");
     }
+    // trailing bytes after the announced length
+    let mut longer = good.clone();
+    longer.push(0);
+    let (mut b, _) = instance("pendulum");
+    assert_eq!(b.restore_fmu_state(&longer), Status::Error, "trailing byte");
     let (mut other, _) = instance("cantilever");
     init(&mut other);
     let foreign = other.save_fmu_state(Call::GetFmuState).unwrap();

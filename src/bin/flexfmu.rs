@@ -1,10 +1,11 @@
 //! `flexfmu`: build FMUs from scene files.
+#![deny(unsafe_code)]
 
 use clap::{Parser, Subcommand};
-use flexfmu::model::build_model;
+use flexfmu::cli::check_path;
 use flexfmu::model_description::model_description;
 use flexfmu::packaging::{build_fmu, find_library};
-use flexfmu::scene::{ParamValues, Scene};
+use flexfmu::scene::Scene;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -76,10 +77,8 @@ fn run(cli: Cli) -> Result<(), String> {
         }
         Cmd::Check { scenes } => {
             for path in scenes {
-                let sc = Scene::from_path(&path).map_err(|e| e.0)?;
-                build_model(&sc, &ParamValues::defaults(&sc.params))
-                    .map_err(|e| format!("{}: {e}", path.display()))?;
-                println!("{}: ok", path.display());
+                let summary = check_path(&path)?;
+                println!("{}: ok, {summary}", path.display());
             }
         }
     }

@@ -29,7 +29,7 @@ struct Handle {
 /// SAFETY: `c` is null or a pointer returned by fmi2Instantiate; a freed or foreign pointer
 /// is detected through the magic number as far as reading 8 bytes from it is possible.
 unsafe fn handle<'a>(c: Fmi2Component) -> Option<&'a mut Handle> {
-    if c.is_null() || (c as usize) % std::mem::align_of::<Handle>() != 0 {
+    if c.is_null() || !(c as usize).is_multiple_of(std::mem::align_of::<Handle>()) {
         return None;
     }
     let h = c as *mut Handle;
@@ -144,6 +144,7 @@ pub extern "C" fn fmi2GetVersion() -> *const c_char {
 }
 
 /// fmi2SetDebugLogging
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetDebugLogging(
     c: Fmi2Component,
@@ -255,6 +256,7 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: Fmi2Component) {
 // ---------------------------------------------------------------------------------------------
 
 /// fmi2SetupExperiment
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetupExperiment(
     c: Fmi2Component,
@@ -274,24 +276,28 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
 }
 
 /// fmi2EnterInitializationMode
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2EnterInitializationMode(c: Fmi2Component) -> Fmi2Status {
     guarded(c, |inst| inst.enter_initialization_mode())
 }
 
 /// fmi2ExitInitializationMode
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: Fmi2Component) -> Fmi2Status {
     guarded(c, |inst| inst.exit_initialization_mode())
 }
 
 /// fmi2Terminate
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2Terminate(c: Fmi2Component) -> Fmi2Status {
     guarded(c, |inst| inst.terminate())
 }
 
 /// fmi2Reset
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2Reset(c: Fmi2Component) -> Fmi2Status {
     guarded(c, |inst| inst.reset())
@@ -359,6 +365,7 @@ fn bool_of(v: Value) -> Fmi2Boolean {
 }
 
 /// fmi2GetReal
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetReal(
     c: Fmi2Component,
@@ -370,6 +377,7 @@ pub unsafe extern "C" fn fmi2GetReal(
 }
 
 /// fmi2GetInteger
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetInteger(
     c: Fmi2Component,
@@ -389,6 +397,7 @@ pub unsafe extern "C" fn fmi2GetInteger(
 }
 
 /// fmi2GetBoolean
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetBoolean(
     c: Fmi2Component,
@@ -408,6 +417,7 @@ pub unsafe extern "C" fn fmi2GetBoolean(
 }
 
 /// fmi2GetString: this FMU has no String variables.
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetString(
     c: Fmi2Component,
@@ -426,6 +436,7 @@ pub unsafe extern "C" fn fmi2GetString(
 }
 
 /// fmi2SetReal
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetReal(
     c: Fmi2Component,
@@ -437,6 +448,7 @@ pub unsafe extern "C" fn fmi2SetReal(
 }
 
 /// fmi2SetInteger
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetInteger(
     c: Fmi2Component,
@@ -448,6 +460,7 @@ pub unsafe extern "C" fn fmi2SetInteger(
 }
 
 /// fmi2SetBoolean
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetBoolean(
     c: Fmi2Component,
@@ -461,6 +474,7 @@ pub unsafe extern "C" fn fmi2SetBoolean(
 }
 
 /// fmi2SetString: this FMU has no String variables.
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetString(
     c: Fmi2Component,
@@ -497,7 +511,7 @@ struct StateBox {
 /// freed or foreign pointer is detected through the magic number as far as reading 8 bytes
 /// from it is possible.
 unsafe fn state_box<'a>(p: Fmi2FmuState) -> Option<&'a mut StateBox> {
-    if p.is_null() || (p as usize) % std::mem::align_of::<StateBox>() != 0 {
+    if p.is_null() || !(p as usize).is_multiple_of(std::mem::align_of::<StateBox>()) {
         return None;
     }
     let b = p as *mut StateBox;
@@ -518,6 +532,7 @@ fn bad_state(inst: &mut Instance, call: Call) -> Status {
 }
 
 /// fmi2GetFMUstate: a new state, or the given one updated in place.
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetFMUstate(c: Fmi2Component, state: *mut Fmi2FmuState) -> Fmi2Status {
     guarded(c, |inst| {
@@ -551,6 +566,7 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: Fmi2Component, state: *mut Fmi2FmuSt
 }
 
 /// fmi2SetFMUstate
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: Fmi2Component, state: Fmi2FmuState) -> Fmi2Status {
     guarded(c, |inst| {
@@ -568,6 +584,7 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: Fmi2Component, state: Fmi2FmuState) 
 }
 
 /// fmi2FreeFMUstate: frees the state and sets `*state` to NULL (a NULL state is a no-op).
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2FreeFMUstate(
     c: Fmi2Component,
@@ -601,6 +618,7 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
 }
 
 /// fmi2SerializedFMUstateSize
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     c: Fmi2Component,
@@ -627,6 +645,7 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
 }
 
 /// fmi2SerializeFMUstate: copies the state into a buffer of at least the serialized size.
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SerializeFMUstate(
     c: Fmi2Component,
@@ -659,6 +678,7 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
 
 /// fmi2DeSerializeFMUstate: checks the bytes (format, version, GUID, checksum) and makes a new
 /// FMU state of them.
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     c: Fmi2Component,
@@ -688,6 +708,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 }
 
 /// fmi2GetDirectionalDerivative
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: Fmi2Component,
@@ -715,6 +736,7 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
 }
 
 /// fmi2SetRealInputDerivatives
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     c: Fmi2Component,
@@ -735,6 +757,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
 }
 
 /// fmi2GetRealOutputDerivatives
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     c: Fmi2Component,
@@ -759,6 +782,7 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
 // ---------------------------------------------------------------------------------------------
 
 /// fmi2DoStep
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2DoStep(
     c: Fmi2Component,
@@ -772,6 +796,7 @@ pub unsafe extern "C" fn fmi2DoStep(
 }
 
 /// fmi2CancelStep
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2CancelStep(c: Fmi2Component) -> Fmi2Status {
     guarded(c, |inst| inst.cancel_step())
@@ -803,6 +828,7 @@ fn get_status_value<T>(
 }
 
 /// fmi2GetStatus
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetStatus(
     c: Fmi2Component,
@@ -815,6 +841,7 @@ pub unsafe extern "C" fn fmi2GetStatus(
 }
 
 /// fmi2GetRealStatus
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetRealStatus(
     c: Fmi2Component,
@@ -827,6 +854,7 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
 }
 
 /// fmi2GetIntegerStatus
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetIntegerStatus(
     c: Fmi2Component,
@@ -839,6 +867,7 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(
 }
 
 /// fmi2GetBooleanStatus
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetBooleanStatus(
     c: Fmi2Component,
@@ -852,6 +881,7 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
 }
 
 /// fmi2GetStringStatus
+#[must_use]
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetStringStatus(
     c: Fmi2Component,

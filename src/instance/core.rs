@@ -361,10 +361,10 @@ impl Instance {
     fn refresh_feedthrough(&mut self, vr: u32) {
         if let Some(sim) = &self.sim {
             for (v, val) in self.vars.vars().iter().zip(self.values.iter_mut()) {
-                if let Role::Output(kind) = v.role {
-                    if v.depends_on.contains(&vr) {
-                        *val = Value::Real(sim.output(kind));
-                    }
+                if let Role::Output(kind) = v.role
+                    && v.depends_on.contains(&vr)
+                {
+                    *val = Value::Real(sim.output(kind));
                 }
             }
         }
@@ -475,10 +475,11 @@ impl Instance {
                 Err(s) => return s,
             }
         }
-        if needs_outputs && self.state == State::InitializationMode {
-            if let Err(s) = self.ensure_built() {
-                return s;
-            }
+        if needs_outputs
+            && self.state == State::InitializationMode
+            && let Err(s) = self.ensure_built()
+        {
+            return s;
         }
         for (i, &vr) in vrs.iter().enumerate() {
             out(i, self.values[vr as usize]);
@@ -497,14 +498,14 @@ impl Instance {
                 Ok(v) => v,
                 Err(s) => return s,
             };
-            if let Value::Real(x) = val {
-                if !x.is_finite() {
-                    return self.error(format!(
-                        "{}: {} = {x} is not a finite number",
-                        call.name(),
-                        v.name
-                    ));
-                }
+            if let Value::Real(x) = val
+                && !x.is_finite()
+            {
+                return self.error(format!(
+                    "{}: {} = {x} is not a finite number",
+                    call.name(),
+                    v.name
+                ));
             }
             let allowed = match (self.state, v.causality) {
                 (_, Causality::Output) => false,
@@ -741,7 +742,7 @@ impl Instance {
 
     /// The capability flags of this FMU.
     pub fn capabilities(&self) -> crate::model_description::Capabilities {
-        crate::model_description::capabilities(self.scene.kind)
+        crate::model_description::Capabilities::ALL
     }
 
     /// A capability this FMU does not have (yet): error with a clear message.

@@ -13,14 +13,12 @@
 use super::core::Instance;
 use crate::fmi2::state_machine::{Call, State};
 use crate::logging::Status;
-use crate::snapshot::{StateReader, StateWriter};
 use crate::variables::{Causality, Role, Value, VarType};
 
-/// Relative size of finite-difference perturbations.
-const FD_REL: f64 = 1e-6;
+use crate::solver::simulation::FD_REL;
 
 impl Instance {
-    fn real_output(&mut self, call: Call, vr: u32) -> Result<crate::variables::OutputKind, Status> {
+    fn real_output(&mut self, call: Call, vr: u32) -> Result<usize, Status> {
         match self.vars.get(vr).map(|v| (v.ty, v.role)) {
             Some((VarType::Real, Role::Output(k))) => Ok(k),
             Some(_) => {
@@ -120,21 +118,7 @@ impl Instance {
                     unreachable!("checked");
                 };
                 let sim = self.sim.as_mut().ok_or("no simulation")?;
-                let d = match sim.output_input_derivative(output, input) {
-                    Some(d) => d,
-                    None => {
-                        // Central difference of the output function, states frozen.
-                        let mut backup = StateWriter::new();
-                        sim.save(&mut backup)?;
-                        let h = FD_REL * u.abs().max(1.0);
-                        sim.set_input(input, u + h);
-                        let yp = sim.output(output);
-                        sim.set_input(input, u - h);
-                        let ym = sim.output(output);
-                        sim.restore(&mut StateReader::new(backup.bytes()))?;
-                        (yp - ym) / (2.0 * h)
-                    }
-                };
+                let d = sim.output_input_partial(output, input, u)?;
                 out[i] += d * dv;
             }
         }
@@ -274,10 +258,10 @@ impl Instance {
             }
             let order = order as usize;
             if self.state == State::StepComplete {
-                if let Some(sim) = self.sim.as_mut() {
-                    if let Err(e) = sim.set_input_derivative(kind, order, value) {
-                        return self.error(format!("{}: {e}", call.name()));
-                    }
+                if let Some(sim) = self.sim.as_mut()
+                    && let Err(e) = sim.set_input_derivative(kind, order, value)
+                {
+                    return self.error(format!("{}: {e}", call.name()));
                 }
             } else {
                 self.pending_derivatives

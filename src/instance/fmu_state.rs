@@ -188,9 +188,14 @@ impl Instance {
         let sum = r.u64().map_err(e)?;
         let header = MAGIC.len() + 8 + 8 + guid.len() + 8 + 8;
         let end = header.saturating_add(len);
-        if bytes.len() < end {
+        if bytes.len() != end {
+            let what = if bytes.len() < end {
+                "truncated"
+            } else {
+                "trailing bytes after the"
+            };
             return Err(format!(
-                "truncated state: {} bytes, its header announces {end}",
+                "{what} state: {} bytes, its header announces {end}",
                 bytes.len()
             ));
         }

@@ -45,10 +45,10 @@ impl LinearSolver {
         if banded {
             return Ok(LinearSolver::Banded(BandedLu::new(n, kl, ku)));
         }
-        if kind == SolverKind::Auto {
-            if let Some(b) = BorderedBanded::analyse(pattern) {
-                return Ok(LinearSolver::Bordered(Box::new(b)));
-            }
+        if kind == SolverKind::Auto
+            && let Some(b) = BorderedBanded::analyse(pattern)
+        {
+            return Ok(LinearSolver::Bordered(Box::new(b)));
         }
         Ok(LinearSolver::Sparse(Box::new(SparseLu::new(pattern)?)))
     }

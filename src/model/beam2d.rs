@@ -9,12 +9,15 @@ use crate::elements::ancf_shear2d::{
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::elements::{Element, ElementState};
 use crate::integrators::DynState;
+use crate::kinds::KindIo;
+use crate::kinds::beam_2d::Beam2dScene;
+use crate::kinds::beam_2d::scene::{Input, Output, io};
+use crate::kinds::energy::EnergyKind;
 use crate::linalg::{CscPattern, LinearSolver, SolverKind};
-use crate::model::inputs::InputSignal;
-use crate::scene::file::{Axis, ProbeQuantity, SceneFile, SupportKind};
+use crate::model::inputs::{InputSignal, prescribed};
 use crate::scene::params::{ParamValues, names::*};
+use crate::scene::tables::{Axis, ProbeQuantity, SupportKind};
 use crate::snapshot::{StateReader, StateWriter};
-use crate::variables::{EnergyKind, InputKind, OutputKind};
 use nalgebra::{Vector2, Vector3};
 
 /// Interpolation of a centre-line point: nodes `a`, `a + 1` with weights `1 − ξ`, `ξ` on their
@@ -64,6 +67,8 @@ pub struct Beam2d {
     motions: Vec<[InputSignal; 4]>,
     probes: Vec<PointMap>,
     scales: Vec<f64>,
+    /// What each input and output means, by index.
+    roles: KindIo<Input, Output>,
     // committed state (outputs are computed from it)
     t: f64,
     q: Vec<f64>,
@@ -108,28 +113,11 @@ impl Clone for Interface {
     }
 }
 
-/// Prescribed position, velocity and acceleration of one coordinate of a motion port at `t`:
-/// the position input's own polynomial if derivatives were given, otherwise the position
-/// advanced with the velocity input (integrated exactly).
-fn prescribed(pos: &InputSignal, vel: &InputSignal, t: f64) -> (f64, f64, f64) {
-    if pos.interpolated {
-        (pos.at(t), pos.rate_at(t), pos.accel())
-    } else {
-        let tau = t - pos.t_ref;
-        let [d1, d2] = vel.derivatives;
-        (
-            pos.value + tau * (vel.value + tau * (0.5 * d1 + tau * d2 / 6.0)),
-            vel.value + tau * (d1 + 0.5 * tau * d2),
-            d1 + tau * d2,
-        )
-    }
-}
-
 impl Beam2d {
     /// Builds the model of a scene with the given parameter values (already validated).
     /// Errors name the scene key or parameter at fault.
-    pub fn build(scene: &SceneFile, p: &ParamValues) -> Result<Self, String> {
-        let geometry = scene.geometry.as_ref().ok_or("[geometry] missing")?;
+    pub fn build(scene: &Beam2dScene, p: &ParamValues) -> Result<Self, String> {
+        let geometry = &scene.geometry;
         let n_el = p.integer(MESH_N_ELEMENTS) as usize;
         let length = p.real(GEOMETRY_LENGTH);
         let section = Section {
@@ -202,7 +190,10 @@ impl Beam2d {
             }
             let base = node as usize * NODE_COORDS;
             if constrained[base] || constrained[base + 1] {
-                return Err(format!("motions[{i}]: the node is already supported"));
+                return Err(format!(
+                    "motions[{i}].at = {}: the node is already supported (a [[supports]] entry at the same place)",
+                    m.at
+                ));
             }
             constrained[base] = true;
             constrained[base + 1] = true;
@@ -221,7 +212,12 @@ impl Beam2d {
         // under the translation from one element to the next) shared by the whole set.
         let e0 = ElemVec::from_fn(|i, _| q0[connectivity[0][i]]);
         let el = Shear2dElement::new(&e0, le, section, rule, law, rho)
-            .ok_or("element 0: degenerate reference geometry")?;
+            .ok_or_else(|| {
+                format!(
+                    "degenerate element geometry ({GEOMETRY_LENGTH} = {length} m over {MESH_N_ELEMENTS} = {n_el}, {GEOMETRY_WIDTH} = {} m, {GEOMETRY_HEIGHT} = {} m)",
+                    section.width, section.height
+                )
+            })?;
         let set = ElementSet::new(vec![el], connectivity, &asm);
         let mut gravity_full = vec![0.0; n_full];
         let g3 = Vector3::new(gravity.x, gravity.y, 0.0);
@@ -308,6 +304,7 @@ impl Beam2d {
             motions,
             probes,
             scales,
+            roles: io(scene),
         })
     }
 
@@ -350,7 +347,13 @@ impl Beam2d {
                     (p, pd) = (self.q[i], self.v[i]);
                 }
                 if let Some(q) = q.as_deref_mut() {
-                    q[i] = self.q0[i] + lambda * (p - self.q0[i]);
+                    // exactly `p` when fully applied: q0 + (p - q0) can differ from p in the
+                    // last bit, and `port_force` relies on q = p at the committed state
+                    q[i] = if lambda == 1.0 {
+                        p
+                    } else {
+                        self.q0[i] + lambda * (p - self.q0[i])
+                    };
                 }
                 if let Some(v) = v.as_deref_mut() {
                     v[i] = pd;
@@ -545,9 +548,9 @@ impl Beam2d {
     }
 
     /// An output of the committed state with the current inputs.
-    fn output_of(&self, kind: OutputKind) -> f64 {
+    fn output_of(&self, kind: Output) -> f64 {
         match kind {
-            OutputKind::Probe { probe, quantity } => {
+            Output::Probe { probe, quantity } => {
                 let p = &self.probes[probe];
                 match quantity {
                     ProbeQuantity::X => p.eval(&self.q, 0),
@@ -558,7 +561,7 @@ impl Beam2d {
                     _ => f64::NAN,
                 }
             }
-            OutputKind::Energy(k) => match k {
+            Output::Energy(k) => match k {
                 EnergyKind::Kinetic => self.kinetic_energy(),
                 EnergyKind::Potential => self.potential_energy(),
                 EnergyKind::Strain => self.strain_energy(),
@@ -566,9 +569,8 @@ impl Beam2d {
                     self.kinetic_energy() + self.potential_energy() + self.strain_energy()
                 }
             },
-            OutputKind::Reaction { port, axis } => self.port_force(port, axis),
+            Output::Reaction { port, axis } => self.port_force(port, axis),
             // not declared by planar beam scenes
-            OutputKind::Belt(_) => f64::NAN,
         }
     }
 
@@ -637,52 +639,46 @@ impl Beam2d {
 
     /// The signal of an input; planar scenes declare no z forces and no moments (see
     /// `scene::beam2d::check`).
-    fn input_signal(&mut self, kind: InputKind) -> Option<&mut InputSignal> {
-        match kind {
-            InputKind::Load { load, axis } if axis < 2 => Some(&mut self.loads[load][axis]),
-            InputKind::Motion { port, component } => Some(&mut self.motions[port][component]),
-            InputKind::Load { .. } | InputKind::Moment { .. } | InputKind::Pulley { .. } => None,
+    fn input_signal(&mut self, input: usize) -> &mut InputSignal {
+        match self.roles.inputs[input] {
+            Input::Load { load, axis } => &mut self.loads[load][axis],
+            Input::Motion { port, component } => &mut self.motions[port][component],
         }
     }
 }
 
 impl Model for Beam2d {
-    fn set_input(&mut self, kind: InputKind, value: f64) {
+    fn set_input(&mut self, input: usize, value: f64) {
         let t = self.t;
-        if let Some(sig) = self.input_signal(kind) {
-            sig.set(value, t);
-        }
-        if matches!(kind, InputKind::Motion { .. }) {
+        self.input_signal(input).set(value, t);
+        if matches!(self.roles.inputs[input], Input::Motion { .. }) {
             self.interface_jacobian();
         }
     }
 
     fn set_input_derivative(
         &mut self,
-        kind: InputKind,
+        input: usize,
         order: usize,
         value: f64,
     ) -> Result<(), String> {
         if !(1..=2).contains(&order) {
             return Err(format!("derivative order {order} not supported (1 or 2)"));
         }
-        match self.input_signal(kind) {
-            Some(sig) => sig.set_derivative(order, value),
-            None => return Err("no such input in a planar scene".into()),
-        }
-        if matches!(kind, InputKind::Motion { .. }) {
+        self.input_signal(input).set_derivative(order, value);
+        if matches!(self.roles.inputs[input], Input::Motion { .. }) {
             self.interface_jacobian();
         }
         Ok(())
     }
 
-    fn output(&self, kind: OutputKind) -> f64 {
-        self.output_of(kind)
+    fn output(&self, output: usize) -> f64 {
+        self.output_of(self.roles.outputs[output])
     }
 
-    fn output_derivative(&self, kind: OutputKind) -> Option<f64> {
-        Some(match kind {
-            OutputKind::Probe { probe, quantity } => {
+    fn output_derivative(&self, output: usize) -> Option<f64> {
+        Some(match self.roles.outputs[output] {
+            Output::Probe { probe, quantity } => {
                 let p = &self.probes[probe];
                 match quantity {
                     ProbeQuantity::X => p.eval(&self.v, 0),
@@ -693,7 +689,7 @@ impl Model for Beam2d {
                     _ => return None,
                 }
             }
-            OutputKind::Energy(k) => {
+            Output::Energy(k) => {
                 let (dt, dv, du) = self.energy_rates();
                 match k {
                     EnergyKind::Kinetic => dt,
@@ -702,9 +698,8 @@ impl Model for Beam2d {
                     EnergyKind::Total => dt + dv + du,
                 }
             }
-            OutputKind::Belt(_) => return None,
             // d/dt of the stiffness part of the reaction, K_c: v (inertia rates neglected).
-            OutputKind::Reaction { port, axis } => -self
+            Output::Reaction { port, axis } => -self
                 .port_rows(port, 0.0)
                 .iter()
                 .map(|(col, rows)| rows[axis] * self.v[*col])
@@ -712,29 +707,44 @@ impl Model for Beam2d {
         })
     }
 
-    fn output_input_derivative(&mut self, output: OutputKind, input: InputKind) -> Option<f64> {
-        Some(match (output, input) {
-            (
-                OutputKind::Reaction { port, axis },
-                InputKind::Motion {
-                    port: p2,
-                    component,
-                },
-            ) => {
-                let sig = &self.motions[p2];
-                // ∂p/∂(input): 1 for the position, τ for the velocity (unless the position
-                // carries its own derivatives).
-                let (coord, dp) = match component {
-                    0 | 1 => (component, 1.0),
-                    _ if sig[component - 2].interpolated => return Some(0.0),
-                    _ => (component - 2, self.t - sig[component - 2].t_ref),
-                };
-                let np = 2 * self.motion_nodes.len();
-                let k = self.interface_jacobian();
-                -dp * k[(2 * port + axis) * np + 2 * p2 + coord]
-            }
-            _ => 0.0,
-        })
+    fn output_input_derivative(&mut self, output: usize, input: usize) -> Option<f64> {
+        Some(
+            match (self.roles.outputs[output], self.roles.inputs[input]) {
+                (
+                    Output::Reaction { port, axis },
+                    Input::Motion {
+                        port: p2,
+                        component,
+                    },
+                ) => {
+                    let sig = &self.motions[p2];
+                    // ∂p/∂(input): 1 for the position, τ for the velocity (unless the position
+                    // carries its own derivatives).
+                    let (coord, dp) = match component {
+                        0 | 1 => (component, 1.0),
+                        _ if sig[component - 2].interpolated => return Some(0.0),
+                        _ => (component - 2, self.t - sig[component - 2].t_ref),
+                    };
+                    let np = 2 * self.motion_nodes.len();
+                    let k = self.interface_jacobian();
+                    -dp * k[(2 * port + axis) * np + 2 * p2 + coord]
+                }
+                // A load on the port node goes straight into the driver (`port_reaction`).
+                (Output::Reaction { port, axis }, Input::Load { load, axis: a2 }) => {
+                    let base = self.motion_nodes[port] * NODE_COORDS;
+                    if a2 != axis {
+                        return Some(0.0);
+                    }
+                    self.load_maps[load]
+                        .weights()
+                        .iter()
+                        .filter(|(i, _)| *i == base)
+                        .map(|(_, w)| w)
+                        .sum()
+                }
+                _ => 0.0,
+            },
+        )
     }
 
     fn constant_mass(&self) -> bool {

@@ -12,7 +12,8 @@
 //! `M q̈ + Q_int(q, q̇) − Σ Q_contact(q, q̇, θ, ω) − Q_g = 0` for the belt and
 //! `J θ̈ + c θ̇ − τ_in − Σ τ_contact = 0` for each free pulley.
 
-use super::belt_layout::{Loop, PitchCircle};
+use super::inputs::{InputSignal, prescribed};
+use super::rates;
 use super::system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::circle_friction::{self, polar_angle};
@@ -22,16 +23,18 @@ use crate::elements::ancf_cable2d::{self, AncfCable2d, CableRule, CableSection, 
 use crate::elements::ancf_shear2d::{AncfShear2d, Section, Shear2dElement, ShearRule};
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::integrators::DynState;
+use crate::kinds::KindIo;
+use crate::kinds::belt_drive::scene::{BeltOutput, Input, Output, PulleyInput};
+use crate::kinds::belt_drive::{BeltDriveScene, PulleyMode};
+use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
-use crate::scene::SceneFile;
-use crate::scene::file::PulleyMode;
+use crate::meshers::belt_loop::{Loop, PitchCircle};
 use crate::scene::params::{
     ParamValues,
     names::{GRAVITY_X, GRAVITY_Y},
 };
 use crate::snapshot::{StateReader, StateWriter};
 use crate::solver::simulation::SolverConfig;
-use crate::variables::{BeltOutput, EnergyKind, InputKind, OutputKind, PulleyInput};
 use nalgebra::{SMatrix, Vector2, Vector3};
 use std::sync::Arc;
 
@@ -249,12 +252,76 @@ fn belt_element(
 
 #[derive(Clone, Copy, Debug, Default)]
 struct PulleyIo {
-    angle_in: f64,
-    omega_in: f64,
-    torque_in: f64,
+    /// Prescribed angle [rad], speed [rad/s] (driven) and input torque [N m] (free) as
+    /// signals of time (`fmi2SetRealInputDerivatives`).
+    angle_in: InputSignal,
+    omega_in: InputSignal,
+    torque_in: InputSignal,
     // results of the committed state
     torque: f64,
     force: Vector2<f64>,
+}
+
+/// Outputs that depend on the contact history (pulley torques and forces, span tensions,
+/// contact energy, dissipated energy), or their rates over the last internal step.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct StepRates {
+    /// Per pulley: torque [N m], force x, y [N] (or their rates).
+    pulleys: Vec<[f64; 3]>,
+    /// Larger and smaller span tension [N].
+    tight: f64,
+    slack: f64,
+    /// Penalty energy of the contact [J].
+    contact_energy: f64,
+    /// Energy dissipated since the start [J].
+    dissipated: f64,
+}
+
+impl StepRates {
+    /// `(self − before)/h`.
+    fn rate_since(&self, before: &Self, h: f64) -> Self {
+        let d = |a: f64, b: f64| (a - b) / h;
+        Self {
+            pulleys: self
+                .pulleys
+                .iter()
+                .zip(&before.pulleys)
+                .map(|(a, b)| [d(a[0], b[0]), d(a[1], b[1]), d(a[2], b[2])])
+                .collect(),
+            tight: d(self.tight, before.tight),
+            slack: d(self.slack, before.slack),
+            contact_energy: d(self.contact_energy, before.contact_energy),
+            dissipated: d(self.dissipated, before.dissipated),
+        }
+    }
+
+    fn save(&self, w: &mut StateWriter) {
+        w.u64(self.pulleys.len() as u64);
+        for p in &self.pulleys {
+            w.f64s(p);
+        }
+        for x in [self.tight, self.slack, self.contact_energy, self.dissipated] {
+            w.f64(x);
+        }
+    }
+
+    fn restore(
+        r: &mut StateReader,
+        n_pulleys: usize,
+    ) -> Result<Self, crate::snapshot::SnapshotError> {
+        let n = r.u64()? as usize;
+        let mut pulleys = vec![[0.0; 3]; n.min(n_pulleys)];
+        for p in pulleys.iter_mut() {
+            r.f64s_into(p)?;
+        }
+        Ok(Self {
+            pulleys,
+            tight: r.f64()?,
+            slack: r.f64()?,
+            contact_energy: r.f64()?,
+            dissipated: r.f64()?,
+        })
+    }
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -281,6 +348,9 @@ pub struct PreloadReport {
 #[derive(Clone, Debug)]
 pub struct BeltDrive {
     spec: BeltSpec,
+    /// What each input and output of the scene means, by index (empty for a model built
+    /// from a [`BeltSpec`] without a scene: drive it with the typed methods).
+    roles: KindIo<Input, Output>,
     /// The belt's elements (one shared element: all have the same reference length).
     set: ElementSet<Arc<dyn BeltElement>, 8>,
     n_el: usize,
@@ -305,6 +375,10 @@ pub struct BeltDrive {
     t: f64,
     q: Vec<f64>,
     v: Vec<f64>,
+    /// Accelerations of the committed state (output rates).
+    acc: Vec<f64>,
+    /// Rates of the history-dependent outputs over the last internal step.
+    step_rates: Option<StepRates>,
     tensions: Vec<f64>,
     slipping_points: usize,
     energy: EnergyBook,
@@ -455,6 +529,7 @@ impl BeltDrive {
             .collect();
         let n_cp = spec.points_per_element.max(1);
         let mut me = Self {
+            roles: KindIo::default(),
             set,
             n_el,
             n_nodes,
@@ -473,6 +548,8 @@ impl BeltDrive {
             t0_step: None,
             t: 0.0,
             v: vec![0.0; n_full],
+            acc: vec![0.0; n_full],
+            step_rates: None,
             qw: q.clone(),
             vw: vec![0.0; n_full],
             aw: vec![0.0; n_full],
@@ -496,8 +573,8 @@ impl BeltDrive {
     }
 
     /// Builds the model of a belt-drive scene with validated parameter values.
-    pub fn build(scene: &SceneFile, p: &ParamValues) -> Result<Self, String> {
-        use crate::scene::belt_drive::{names::*, *};
+    pub fn build(scene: &BeltDriveScene, p: &ParamValues) -> Result<Self, String> {
+        use crate::kinds::belt_drive::scene::{names::*, *};
         let rule = match p.integer(BELT_INTEGRATION) {
             2 => CableRule::Reduced,
             3 => CableRule::Mixed,
@@ -582,9 +659,10 @@ impl BeltDrive {
             statics: (cfg.newton, cfg.linear, cfg.load_steps),
         })?;
         for (i, s) in scene.pulley.iter().enumerate() {
-            drive.io[i].omega_in = s.omega;
-            drive.io[i].torque_in = s.torque_in;
+            drive.io[i].omega_in = InputSignal::constant(s.omega);
+            drive.io[i].torque_in = InputSignal::constant(s.torque_in);
         }
+        drive.roles = io(scene);
         Ok(drive)
     }
 
@@ -632,7 +710,13 @@ impl BeltDrive {
         for round in 0..5 {
             self.free_state(&mut qf, &mut vf);
             let st = crate::solver::statics::solve(self, &mut ws, &mut qf, &settings, load_steps)
-                .map_err(|e| format!("static pre-load of the belt: {e}"))?;
+                .map_err(|e| {
+                    let s = &self.spec.section;
+                    format!(
+                        "static pre-load of the belt (belt.EA = {} N, belt.EI = {} N.m2, belt.mass_per_length = {} kg/m, belt.damping_axial = {} N.s, belt.damping_bending = {} N.m2.s, belt.pretension = {pretension} N, belt.thickness = {} m, contact.mu = {}, contact.stiffness = {} N/m2, with the pulleys' radius and center; solver.newton_tolerance = {}, solver.max_iterations = {}): {e}",
+                        s.ea, s.ei, s.mass_per_length, s.damping_axial, s.damping_bending, self.spec.thickness, self.spec.contact.mu, self.spec.contact.k_n, settings.tolerance, settings.max_iterations
+                    )
+                })?;
             self.preload.solves += 1;
             self.preload.iterations += st.newton.iterations;
             self.asm.dofs.expand(&qf, &mut self.q);
@@ -706,13 +790,12 @@ impl BeltDrive {
         self.circles[k].radius
     }
 
-    /// Prescribed angle and speed of a driven pulley at time `t`.
-    fn driven(&self, k: usize, t: f64) -> (f64, f64) {
+    /// Prescribed angle, speed and angular acceleration of a driven pulley at time `t`: the
+    /// angle input's polynomial if it has derivatives, else the angle advanced with the speed
+    /// input ([`prescribed`]).
+    fn driven(&self, k: usize, t: f64) -> (f64, f64, f64) {
         let io = &self.io[k];
-        match self.t0_step {
-            Some(t0) => (io.angle_in + io.omega_in * (t - t0), io.omega_in),
-            None => (io.angle_in, io.omega_in),
-        }
+        prescribed(&io.angle_in, &io.omega_in, t)
     }
 
     /// Sets the driven pulleys' angles and speeds into full vectors.
@@ -720,11 +803,11 @@ impl BeltDrive {
         let mut a = a;
         for (k, p) in self.spec.pulleys.iter().enumerate() {
             if p.kind == PulleyKind::Driven {
-                let (th, om) = self.driven(k, t);
+                let (th, om, al) = self.driven(k, t);
                 q[self.pulley_dof[k]] = th;
                 v[self.pulley_dof[k]] = om;
                 if let Some(a) = a.as_deref_mut() {
-                    a[self.pulley_dof[k]] = 0.0;
+                    a[self.pulley_dof[k]] = al;
                 }
             }
         }
@@ -766,6 +849,7 @@ impl BeltDrive {
     /// matrix (stiffness part scaled by `k_scale`, for the midpoint rule).
     fn evaluate(
         &mut self,
+        t: f64,
         load_factor: f64,
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
@@ -789,7 +873,7 @@ impl BeltDrive {
         for (k, p) in self.spec.pulleys.iter().enumerate() {
             if let PulleyKind::Free { inertia, damping } = p.kind {
                 let pd = self.pulley_dof[k];
-                f[pd] += inertia * self.aw[pd] + damping * self.vw[pd] - self.io[k].torque_in;
+                f[pd] += inertia * self.aw[pd] + damping * self.vw[pd] - self.io[k].torque_in.at(t);
                 // bearing spring of a held pulley while the belt is mounted [N m/rad]
                 let k_hold = match &self.held_angles {
                     Some(held) => {
@@ -854,10 +938,8 @@ impl BeltDrive {
                         blk[(8, 8)] -= m[(2, 2)];
                     }
                 }
-                if any {
-                    if let Some((_, vals)) = jac.as_mut() {
-                        self.contact_blocks.add_matrix(e * np + k, &blk, 1.0, vals);
-                    }
+                if any && let Some((_, vals)) = jac.as_mut() {
+                    self.contact_blocks.add_matrix(e * np + k, &blk, 1.0, vals);
                 }
             }
         }
@@ -965,7 +1047,7 @@ impl BeltDrive {
                 match p.kind {
                     PulleyKind::Driven => p_in -= self.io[k].torque * om,
                     PulleyKind::Free { damping, .. } => {
-                        p_in += self.io[k].torque_in * om;
+                        p_in += self.io[k].torque_in.at(t) * om;
                         p_diss += damping * om * om;
                     }
                 }
@@ -992,13 +1074,18 @@ impl BeltDrive {
 
     /// Kinetic energy of belt and free pulleys [J] (committed state).
     pub fn kinetic_energy(&self) -> f64 {
+        self.kinetic_energy_of(&self.v)
+    }
+
+    /// Kinetic energy [J] at full velocities `v`.
+    fn kinetic_energy_of(&self, v: &[f64]) -> f64 {
         let mut t = 0.0;
-        self.set.for_each_state(&self.q, &self.v, None, |_, el, s| {
+        self.set.for_each_state(&self.q, v, None, |_, el, s| {
             t += el.kinetic_energy_at(s);
         });
         for (k, p) in self.spec.pulleys.iter().enumerate() {
             if let PulleyKind::Free { inertia, .. } = p.kind {
-                t += 0.5 * inertia * self.v[self.pulley_dof[k]].powi(2);
+                t += 0.5 * inertia * v[self.pulley_dof[k]].powi(2);
             }
         }
         t
@@ -1006,19 +1093,24 @@ impl BeltDrive {
 
     /// Strain energy of the belt plus the penalty energy of the contact [J].
     pub fn strain_energy(&self) -> f64 {
-        let mut u = self.energy.contact_energy;
-        self.set.for_each_state(&self.q, &self.v, None, |_, el, s| {
-            u += el.strain_energy_at(s);
-        });
-        u
+        self.energy.contact_energy + self.belt_strain_energy_of(&self.q)
+    }
+
+    /// Strain energy of the belt elements [J] at full coordinates `q`.
+    fn belt_strain_energy_of(&self, q: &[f64]) -> f64 {
+        self.set.strain_energy(q, None)
     }
 
     /// Gravity potential `−Q_gᵀ q` [J].
     pub fn potential_energy(&self) -> f64 {
+        self.potential_energy_of(&self.q)
+    }
+
+    fn potential_energy_of(&self, q: &[f64]) -> f64 {
         -self
             .gravity_full
             .iter()
-            .zip(&self.q)
+            .zip(q)
             .map(|(g, q)| g * q)
             .sum::<f64>()
     }
@@ -1050,11 +1142,16 @@ impl BeltDrive {
 
     /// Belt centre-line point at material fraction `u ∈ [0, 1)` of the loop [m].
     pub fn belt_point(&self, u: f64) -> Vector2<f64> {
+        self.belt_point_of(u, &self.q)
+    }
+
+    /// The belt point at `u` interpolated from full coordinates (or velocities) `x`.
+    fn belt_point_of(&self, u: f64, full: &[f64]) -> Vector2<f64> {
         let s = u.rem_euclid(1.0) * self.n_el as f64;
         let e = (s.floor() as usize).min(self.n_el - 1);
         let x = (s - e as f64) * self.element().length();
         let w = self.element().centerline(x);
-        let qe = self.set.gather(e, &self.q);
+        let qe = self.set.gather(e, full);
         let mut r = Vector2::zeros();
         for a in 0..4 {
             r.x += w[a] * qe[2 * a];
@@ -1065,16 +1162,123 @@ impl BeltDrive {
 
     /// Mean speed of the belt nodes [m/s].
     pub fn belt_speed(&self) -> f64 {
+        self.belt_speed_of(&self.v)
+    }
+
+    fn belt_speed_of(&self, v: &[f64]) -> f64 {
         (0..self.n_nodes)
-            .map(|k| Vector2::new(self.v[k * NC], self.v[k * NC + 1]).norm())
+            .map(|k| Vector2::new(v[k * NC], v[k * NC + 1]).norm())
             .sum::<f64>()
             / self.n_nodes as f64
     }
 
-    fn output_of(&self, kind: OutputKind) -> f64 {
+    /// Sets a pulley input (the typed form of `Model::set_input`).
+    pub fn set_pulley_input(&mut self, pulley: usize, quantity: PulleyInput, value: f64) {
+        if quantity == PulleyInput::Angle
+            && self.t0_step.is_none()
+            && self.spec.pulleys[pulley].kind == PulleyKind::Driven
+            && value.is_finite()
+        {
+            let pd = self.pulley_dof[pulley];
+            let turn = value - self.q[pd];
+            let np = self.circles.len();
+            for h in self.hist.iter_mut().skip(pulley).step_by(np) {
+                h.theta += turn;
+            }
+            self.q[pd] = value;
+        }
+        let t = self.t;
+        self.signal(pulley, quantity).set(value, t);
+    }
+
+    /// `1 − ω_last ρ_last / (ω_1 ρ_1)` at full velocities `v`.
+    fn slip_of(&self, v: &[f64]) -> f64 {
+        let last = self.circles.len() - 1;
+        let v1 = v[self.pulley_dof[0]] * self.circles[0].radius;
+        let vn = v[self.pulley_dof[last]] * self.circles[last].radius;
+        if v1.abs() > 1e-12 { 1.0 - vn / v1 } else { 0.0 }
+    }
+
+    /// The signal of a pulley input.
+    fn signal(&mut self, pulley: usize, quantity: PulleyInput) -> &mut InputSignal {
+        let io = &mut self.io[pulley];
+        match quantity {
+            PulleyInput::Angle => &mut io.angle_in,
+            PulleyInput::Omega => &mut io.omega_in,
+            PulleyInput::Torque => &mut io.torque_in,
+        }
+    }
+
+    /// The history-dependent outputs of the committed state.
+    fn history_outputs(&self) -> StepRates {
+        let (tight, slack) = if self.tensions.is_empty() {
+            (0.0, 0.0)
+        } else {
+            (
+                self.output_of(Output::Belt(BeltOutput::TensionTight)),
+                self.output_of(Output::Belt(BeltOutput::TensionSlack)),
+            )
+        };
+        StepRates {
+            pulleys: self
+                .io
+                .iter()
+                .map(|io| [io.torque, io.force.x, io.force.y])
+                .collect(),
+            tight,
+            slack,
+            contact_energy: self.energy.contact_energy,
+            dissipated: self.energy.dissipated,
+        }
+    }
+
+    /// Time derivative of an output of the committed state. Analytic: pulley angles and
+    /// speeds (`ω`, `α`), belt points (interpolated velocities), the input work (the input
+    /// power at the committed state). Along the motion ([`rates::along_motion`]): belt speed,
+    /// slip, kinetic and potential energy, the belt's strain energy. Over the last internal
+    /// step (backward difference, first order): pulley torques and forces, span tensions, the
+    /// contact part of the strain energy and the dissipated energy, which depend on the
+    /// friction history; `None` before the first step.
+    fn output_rate(&self, kind: Output) -> Option<f64> {
+        let along = |f: &dyn Fn(&[f64], &[f64]) -> f64| {
+            let mut work = [Vec::new(), Vec::new()];
+            rates::along_motion(&self.q, &self.v, &self.acc, &mut work, f)
+        };
+        let last = || self.step_rates.as_ref();
+        let point = |i: usize| self.belt_point_of(i as f64 / self.spec.n_points as f64, &self.v);
+        let strain = || Some(along(&|q, _| self.belt_strain_energy_of(q)) + last()?.contact_energy);
+        Some(match kind {
+            Output::Belt(b) => match b {
+                BeltOutput::PulleyTorque(k) => last()?.pulleys.get(k)?[0],
+                BeltOutput::PulleyForceX(k) => last()?.pulleys.get(k)?[1],
+                BeltOutput::PulleyForceY(k) => last()?.pulleys.get(k)?[2],
+                BeltOutput::PulleyAngle(k) => self.v[self.pulley_dof[k]],
+                BeltOutput::PulleyOmega(k) => self.acc[self.pulley_dof[k]],
+                BeltOutput::TensionTight => last()?.tight,
+                BeltOutput::TensionSlack => last()?.slack,
+                BeltOutput::Slip => along(&|_, v| self.slip_of(v)),
+                BeltOutput::Speed => along(&|_, v| self.belt_speed_of(v)),
+                BeltOutput::PointX(i) => point(i).x,
+                BeltOutput::PointY(i) => point(i).y,
+                BeltOutput::InputWork => self.energy.p_in,
+                BeltOutput::Dissipated => last()?.dissipated,
+            },
+            Output::Energy(k) => match k {
+                EnergyKind::Kinetic => along(&|_, v| self.kinetic_energy_of(v)),
+                EnergyKind::Potential => along(&|q, _| self.potential_energy_of(q)),
+                EnergyKind::Strain => strain()?,
+                EnergyKind::Total => {
+                    strain()?
+                        + along(&|q, v| self.kinetic_energy_of(v) + self.potential_energy_of(q))
+                }
+            },
+        })
+    }
+
+    /// An output of the committed state.
+    pub fn output_of(&self, kind: Output) -> f64 {
         match kind {
-            OutputKind::Reaction { .. } => unreachable!("belt scenes declare no motion ports"),
-            OutputKind::Belt(b) => match b {
+            Output::Belt(b) => match b {
                 BeltOutput::PulleyTorque(k) => self.io[k].torque,
                 BeltOutput::PulleyForceX(k) => self.io[k].force.x,
                 BeltOutput::PulleyForceY(k) => self.io[k].force.y,
@@ -1088,19 +1292,14 @@ impl BeltDrive {
                 BeltOutput::TensionSlack => {
                     self.tensions.iter().copied().fold(f64::INFINITY, f64::min)
                 }
-                BeltOutput::Slip => {
-                    let last = self.circles.len() - 1;
-                    let v1 = self.v[self.pulley_dof[0]] * self.circles[0].radius;
-                    let vn = self.v[self.pulley_dof[last]] * self.circles[last].radius;
-                    if v1.abs() > 1e-12 { 1.0 - vn / v1 } else { 0.0 }
-                }
+                BeltOutput::Slip => self.slip_of(&self.v),
                 BeltOutput::Speed => self.belt_speed(),
                 BeltOutput::PointX(i) => self.belt_point(i as f64 / self.spec.n_points as f64).x,
                 BeltOutput::PointY(i) => self.belt_point(i as f64 / self.spec.n_points as f64).y,
                 BeltOutput::InputWork => self.energy.input_work,
                 BeltOutput::Dissipated => self.energy.dissipated,
             },
-            OutputKind::Energy(k) => match k {
+            Output::Energy(k) => match k {
                 EnergyKind::Kinetic => self.kinetic_energy(),
                 EnergyKind::Strain => self.strain_energy(),
                 EnergyKind::Potential => self.potential_energy(),
@@ -1108,7 +1307,6 @@ impl BeltDrive {
                     self.kinetic_energy() + self.strain_energy() + self.potential_energy()
                 }
             },
-            OutputKind::Probe { .. } => f64::NAN,
         }
     }
 
@@ -1122,38 +1320,51 @@ impl Model for BeltDrive {
     /// Before the first communication step the angle of a driven pulley is where the master's
     /// rigid body starts: the pulley is turned there under the belt without slip (a pulley's
     /// absolute angle means nothing to the belt; only its rotation during the run does).
-    fn set_input(&mut self, kind: InputKind, value: f64) {
-        if let InputKind::Pulley { pulley, quantity } = kind {
-            if quantity == PulleyInput::Angle
-                && self.t0_step.is_none()
-                && self.spec.pulleys[pulley].kind == PulleyKind::Driven
-                && value.is_finite()
-            {
-                let pd = self.pulley_dof[pulley];
-                let turn = value - self.q[pd];
-                let np = self.circles.len();
-                for h in self.hist.iter_mut().skip(pulley).step_by(np) {
-                    h.theta += turn;
-                }
-                self.q[pd] = value;
-            }
-            let io = &mut self.io[pulley];
-            match quantity {
-                PulleyInput::Angle => io.angle_in = value,
-                PulleyInput::Omega => io.omega_in = value,
-                PulleyInput::Torque => io.torque_in = value,
-            }
-        }
+    fn set_input(&mut self, input: usize, value: f64) {
+        let Input::Pulley { pulley, quantity } = self.roles.inputs[input];
+        self.set_pulley_input(pulley, quantity, value);
     }
 
-    fn output(&self, kind: OutputKind) -> f64 {
-        self.output_of(kind)
+    fn set_input_derivative(
+        &mut self,
+        input: usize,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String> {
+        if !(1..=2).contains(&order) {
+            return Err(format!("derivative order {order} not supported (1 or 2)"));
+        }
+        let Input::Pulley { pulley, quantity } = self.roles.inputs[input];
+        self.signal(pulley, quantity).set_derivative(order, value);
+        Ok(())
+    }
+
+    fn output_derivative(&self, output: usize) -> Option<f64> {
+        self.output_rate(self.roles.outputs[output])
+    }
+
+    fn output(&self, output: usize) -> f64 {
+        self.output_of(self.roles.outputs[output])
     }
 
     fn accept(&mut self, state: &mut DynState) {
         self.asm.dofs.expand(&state.q, &mut self.q);
         self.asm.dofs.expand(&state.v, &mut self.v);
+        self.asm.dofs.expand(&state.acc, &mut self.acc);
+        let mut a = std::mem::take(&mut self.acc);
+        let (mut q, mut v) = (std::mem::take(&mut self.qw), std::mem::take(&mut self.vw));
+        q.copy_from_slice(&self.q);
+        v.copy_from_slice(&self.v);
+        self.prescribe(state.t, &mut q, &mut v, Some(&mut a));
+        (self.acc, self.qw, self.vw) = (a, q, v);
+        let before = self.history_outputs();
+        let t_before = self.t;
         self.commit(state.t, false);
+        let h = state.t - t_before;
+        if h > 0.0 {
+            let after = self.history_outputs();
+            self.step_rates = Some(after.rate_since(&before, h));
+        }
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
@@ -1167,7 +1378,7 @@ impl Model for BeltDrive {
 
     /// Pulley angles, speeds and torques are smooth signals set at every communication step:
     /// the integrator keeps its accelerations.
-    fn input_restarts_accelerations(&self, _kind: InputKind) -> bool {
+    fn input_restarts_accelerations(&self, _input: usize) -> bool {
         false
     }
 
@@ -1185,16 +1396,17 @@ impl Model for BeltDrive {
         }
         w.u64(self.io.len() as u64);
         for io in &self.io {
-            for x in [
-                io.angle_in,
-                io.omega_in,
-                io.torque_in,
-                io.torque,
-                io.force.x,
-                io.force.y,
-            ] {
+            for sig in [&io.angle_in, &io.omega_in, &io.torque_in] {
+                sig.save(w);
+            }
+            for x in [io.torque, io.force.x, io.force.y] {
                 w.f64(x);
             }
+        }
+        w.f64s(&self.acc);
+        w.bool(self.step_rates.is_some());
+        if let Some(r) = &self.step_rates {
+            r.save(w);
         }
         w.f64s(&self.tensions);
         w.u64(self.slipping_points as u64);
@@ -1233,12 +1445,18 @@ impl Model for BeltDrive {
             return Err("pulleys of another drive".into());
         }
         for io in self.io.iter_mut() {
-            io.angle_in = r.f64().map_err(e)?;
-            io.omega_in = r.f64().map_err(e)?;
-            io.torque_in = r.f64().map_err(e)?;
+            io.angle_in = InputSignal::restore(r).map_err(e)?;
+            io.omega_in = InputSignal::restore(r).map_err(e)?;
+            io.torque_in = InputSignal::restore(r).map_err(e)?;
             io.torque = r.f64().map_err(e)?;
             io.force = Vector2::new(r.f64().map_err(e)?, r.f64().map_err(e)?);
         }
+        r.f64s_into(&mut self.acc).map_err(e)?;
+        self.step_rates = if r.bool().map_err(e)? {
+            Some(StepRates::restore(r, self.io.len()).map_err(e)?)
+        } else {
+            None
+        };
         r.f64s_into(&mut self.tensions).map_err(e)?;
         self.slipping_points = r.u64().map_err(e)? as usize;
         self.energy = EnergyBook {
@@ -1289,7 +1507,7 @@ impl MechanicalSystem for BeltDrive {
         self.asm.dofs.expand(a, &mut aw);
         self.prescribe(t, &mut qw, &mut vw, Some(&mut aw));
         (self.qw, self.vw, self.aw) = (qw, vw, aw);
-        self.evaluate(load_factor, jac)?;
+        self.evaluate(t, load_factor, jac)?;
         self.finish(r)
     }
 
@@ -1352,10 +1570,10 @@ mod tests {
     fn running(steps: usize, h: f64) -> (BeltDrive, DynState) {
         let (scene, mut p) = shipped();
         p.set(
-            crate::scene::belt_drive::names::BELT_N_ELEMENTS,
+            crate::kinds::belt_drive::scene::names::BELT_N_ELEMENTS,
             crate::variables::Value::Integer(24),
         );
-        let mut m = BeltDrive::build(&scene.file, &p).unwrap();
+        let mut m = BeltDrive::build(scene.tables().unwrap(), &p).unwrap();
         let mut cfg = SolverConfig::from_params(&p);
         // the state this test checks the Jacobian in was chosen with full Newton
         cfg.newton.policy = crate::solver::newton::NewtonPolicy::Full;
@@ -1365,34 +1583,16 @@ mod tests {
         m.free_state(&mut s0.q, &mut s0.v);
         let mut s1 = s0.clone();
         let ga = GeneralizedAlpha::from_rho_inf(0.8);
-        m.set_input(
-            InputKind::Pulley {
-                pulley: 1,
-                quantity: PulleyInput::Torque,
-            },
-            -20.0,
-        );
+        m.set_pulley_input(1, PulleyInput::Torque, -20.0);
         for i in 0..steps {
             let t = i as f64 * h;
-            m.set_input(
-                InputKind::Pulley {
-                    pulley: 0,
-                    quantity: PulleyInput::Omega,
-                },
-                200.0 * t,
-            );
+            m.set_pulley_input(0, PulleyInput::Omega, 200.0 * t);
             m.begin_communication_step(t, t + h);
             ga.step(&mut m, &mut ws, &cfg.newton, &s0, h, &mut s1)
                 .unwrap_or_else(|e| panic!("step {i}: {e}"));
             m.accept(&mut s1);
             std::mem::swap(&mut s0, &mut s1);
-            m.set_input(
-                InputKind::Pulley {
-                    pulley: 0,
-                    quantity: PulleyInput::Angle,
-                },
-                100.0 * (t + h).powi(2),
-            );
+            m.set_pulley_input(0, PulleyInput::Angle, 100.0 * (t + h).powi(2));
         }
         (m, s0)
     }

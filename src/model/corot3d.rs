@@ -20,29 +20,35 @@
 //! invertible `T(θ)ᵀ` is unnecessary, so it is not done). The iteration matrix is exact:
 //! element tangents with respect to body spins times `T(θ)` on the rotation columns.
 
+use super::inputs::InputSignal;
+use super::rates;
 use super::system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::assembly::{Assembly, DofMap, ElementSet, Eval, check_finite};
 use crate::elements::corotational3d::{
     BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Theory, reference_frame,
 };
 use crate::elements::node_frames::NodeFrames;
-use crate::elements::rotation::skew;
+use crate::elements::rotation::{skew, tangent_spatial_inv};
 use crate::integrators::DynState;
+use crate::kinds::KindIo;
+use crate::kinds::beam_3d::scene::{Input, Output, io, names::*};
+use crate::kinds::beam_3d::{Beam3dScene, CentrelineSection};
+use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
-use crate::scene::corot3d::names::*;
-use crate::scene::file::{CentrelineSection, ProbeQuantity, SceneFile, SupportKind};
+use crate::meshers::centreline::{Piece, mesh_centreline};
+use crate::meshers::stations::Stations;
 use crate::scene::params::{ParamValues, names::*};
+use crate::scene::tables::{ProbeQuantity, SupportKind};
 use crate::snapshot::{StateReader, StateWriter};
-use crate::variables::{EnergyKind, InputKind, OutputKind};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-/// Reference nodes of a centre line.
+/// Reference nodes of a centre line and the section frame of every element.
 #[derive(Clone, Debug)]
 struct Mesh {
     /// Node positions [m].
     x: Vec<Vector3<f64>>,
-    /// Arc length of each node along the centre line [m].
-    s: Vec<f64>,
+    /// Arc length of each node along the centre line.
+    stations: Stations,
     /// Reference section frame of each element.
     frames: Vec<Matrix3<f64>>,
 }
@@ -51,123 +57,62 @@ fn vec3(a: &[f64; 3]) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
 }
 
-/// Nodes along the centre line: `n_el` elements shared among the pieces in proportion to their
-/// lengths (largest remainder, at least one each); piece ends are always nodes.
+/// Nodes along the centre line ([`mesh_centreline`]) and the element frames: local z as close
+/// as possible to `section_z` (default global z; global y where an element is parallel to it).
 fn mesh(c: &CentrelineSection, n_el: usize) -> Result<Mesh, String> {
-    let n_pieces = c.segments.len();
-    if n_el < n_pieces {
-        return Err(format!(
-            "{MESH_N_ELEMENTS} = {n_el}: the centre line has {n_pieces} pieces and each needs at least one element"
-        ));
-    }
-    // Geometry of every piece: start point, start tangent, length, and a point function.
-    enum Piece {
-        Line {
-            p: Vector3<f64>,
-            t: Vector3<f64>,
-            len: f64,
-        },
-        Arc {
-            p: Vector3<f64>,
-            t: Vector3<f64>,
-            n: Vector3<f64>,
-            r: f64,
-            phi: f64,
-        },
-    }
-    let mut pieces = Vec::with_capacity(n_pieces);
-    let mut p = vec3(&c.start);
-    let mut t = Vector3::x();
-    for (i, seg) in c.segments.iter().enumerate() {
-        if let Some(d) = &seg.direction {
-            t = vec3(d).normalize();
-        }
-        match (seg.length, seg.radius, seg.angle_deg, &seg.bend_axis) {
-            (Some(len), ..) => {
-                pieces.push(Piece::Line { p, t, len });
-                p += t * len;
-            }
-            (None, Some(r), Some(a), Some(b)) => {
-                let b = vec3(b);
-                let bp = b - t * b.dot(&t);
-                if bp.norm() < 1e-8 * b.norm() {
-                    return Err(format!(
-                        "centreline.segments[{i}].bend_axis: parallel to the tangent {t:?}"
-                    ));
-                }
-                let n = bp.normalize().cross(&t);
-                let phi = a.to_radians();
-                pieces.push(Piece::Arc { p, t, n, r, phi });
-                p += (t * phi.sin() + n * (1.0 - phi.cos())) * r;
-                t = t * phi.cos() + n * phi.sin();
-            }
-            _ => return Err(format!("centreline.segments[{i}]: incomplete piece")),
-        }
-    }
-    let lengths: Vec<f64> = pieces
+    let pieces: Vec<Piece> = c
+        .segments
         .iter()
-        .map(|pc| match pc {
-            Piece::Line { len, .. } => *len,
-            Piece::Arc { r, phi, .. } => r * phi,
+        .enumerate()
+        .map(|(i, seg)| {
+            let direction = seg.direction.as_ref().map(vec3);
+            match (seg.length, seg.radius, seg.angle_deg, &seg.bend_axis) {
+                (Some(length), ..) => Ok(Piece::Line { direction, length }),
+                (None, Some(radius), Some(a), Some(b)) => Ok(Piece::Arc {
+                    direction,
+                    radius,
+                    angle: a.to_radians(),
+                    bend_axis: vec3(b),
+                }),
+                _ => Err(format!("centreline.segments[{i}]: incomplete piece")),
+            }
         })
-        .collect();
-    let total: f64 = lengths.iter().sum();
-    // Largest-remainder distribution with at least one element per piece.
-    let exact: Vec<f64> = lengths.iter().map(|l| n_el as f64 * l / total).collect();
-    let mut counts: Vec<usize> = exact.iter().map(|e| (e.floor() as usize).max(1)).collect();
-    while counts.iter().sum::<usize>() > n_el {
-        let k = (0..n_pieces)
-            .filter(|&k| counts[k] > 1)
-            .max_by(|&a, &b| {
-                (counts[a] as f64 - exact[a]).total_cmp(&(counts[b] as f64 - exact[b]))
-            })
-            .ok_or("cannot distribute the elements")?;
-        counts[k] -= 1;
-    }
-    while counts.iter().sum::<usize>() < n_el {
-        let k = (0..n_pieces)
-            .max_by(|&a, &b| {
-                (exact[a] - counts[a] as f64).total_cmp(&(exact[b] - counts[b] as f64))
-            })
-            .ok_or("cannot distribute the elements")?;
-        counts[k] += 1;
-    }
-    let mut x = vec![vec3(&c.start)];
-    let mut s = vec![0.0];
-    let mut s0 = 0.0;
-    for (k, pc) in pieces.iter().enumerate() {
-        let m = counts[k];
-        for j in 1..=m {
-            let u = j as f64 / m as f64;
-            let point = match pc {
-                Piece::Line { p, t, len } => p + t * (len * u),
-                Piece::Arc { p, t, n, r, phi } => {
-                    let a = phi * u;
-                    p + (t * a.sin() + n * (1.0 - a.cos())) * *r
-                }
-            };
-            x.push(point);
-            s.push(s0 + lengths[k] * u);
-        }
-        s0 += lengths[k];
-    }
+        .collect::<Result<_, _>>()?;
+    let line = mesh_centreline(
+        vec3(&c.start),
+        &pieces,
+        n_el,
+        MESH_N_ELEMENTS,
+        "centreline.segments",
+    )?;
+    let x = line.x;
     let hint = c.section_z.as_ref().map_or(Vector3::z(), vec3);
     let mut frames = Vec::with_capacity(n_el);
     for e in 0..n_el {
         let f = reference_frame(&x[e], &x[e + 1], &hint)
             .or_else(|| reference_frame(&x[e], &x[e + 1], &Vector3::y()))
-            .ok_or_else(|| format!("element {e}: degenerate reference geometry"))?;
+            .ok_or_else(|| {
+                format!(
+                    "element {e}: degenerate reference geometry (centreline.start, the length, or radius and angle_deg, of the centreline.segments and {MESH_N_ELEMENTS} = {n_el} give it the ends {:?} and {:?})",
+                    x[e], x[e + 1]
+                )
+            })?;
         frames.push(f);
     }
-    Ok(Mesh { x, s, frames })
+    Ok(Mesh {
+        x,
+        stations: line.stations,
+        frames,
+    })
 }
 
 /// A point load at a node.
 #[derive(Clone, Copy, Debug)]
 struct NodeLoad {
     node: usize,
-    /// `[fx, fy, fz, mx, my, mz]` [N, N m].
-    values: [f64; 6],
+    /// `[fx, fy, fz, mx, my, mz]` [N, N m] as signals of time (extrapolated inside a
+    /// communication step with the derivatives of `fmi2SetRealInputDerivatives`).
+    values: [InputSignal; 6],
     follower: bool,
 }
 
@@ -181,7 +126,7 @@ struct NodeProbe {
 
 /// The seed-003 3D beam model.
 #[derive(Clone, Debug)]
-pub struct Corot3dModel {
+pub struct Beam3d {
     length: f64,
     set: ElementSet<Corot3d, ELEMENT_DOFS>,
     /// Stored orientations of the nodes (incremental rotation vectors among the coordinates).
@@ -192,21 +137,26 @@ pub struct Corot3dModel {
     probes: Vec<NodeProbe>,
     scales: Vec<f64>,
     // committed state (outputs are computed from it)
+    t: f64,
     q: Vec<f64>,
     v: Vec<f64>,
+    /// Accelerations of the committed state (`θ̈ = Ẇ` at θ = 0), for output rates.
+    acc: Vec<f64>,
     // work buffers
     qw: Vec<f64>,
     vw: Vec<f64>,
     aw: Vec<f64>,
     fw: Vec<f64>,
     qmid: Vec<f64>,
+    /// What each input and output means, by index.
+    roles: KindIo<Input, Output>,
 }
 
-impl Corot3dModel {
+impl Beam3d {
     /// Builds the model of a scene with the given parameter values (already validated).
     /// Errors name the scene key or parameter at fault.
-    pub fn build(scene: &SceneFile, p: &ParamValues) -> Result<Self, String> {
-        let c = scene.centreline.as_ref().ok_or("[centreline] missing")?;
+    pub fn build(scene: &Beam3dScene, p: &ParamValues) -> Result<Self, String> {
+        let c = &scene.centreline;
         let n_el = p.integer(MESH_N_ELEMENTS) as usize;
         let section = BeamSection {
             ea: p.real(SECTION_EA),
@@ -244,34 +194,11 @@ impl Corot3dModel {
         );
         let m = mesh(c, n_el)?;
         let n_nodes = n_el + 1;
-        let length = m.s[n_el];
-        let node_at = |key: String, at: f64| -> Result<usize, String> {
-            let target = at * length;
-            let k =
-                m.s.iter()
-                    .enumerate()
-                    .min_by(|a, b| (a.1 - target).abs().total_cmp(&(b.1 - target).abs()))
-                    .map(|(k, _)| k)
-                    .unwrap_or(0);
-            if (m.s[k] - target).abs() > 1e-9 * length {
-                let lo =
-                    m.s.iter()
-                        .rev()
-                        .find(|&&s| s <= target)
-                        .copied()
-                        .unwrap_or(0.0);
-                let hi =
-                    m.s.iter()
-                        .find(|&&s| s >= target)
-                        .copied()
-                        .unwrap_or(length);
-                return Err(format!(
-                    "{key}.at = {at}: must fall on a node; with {MESH_N_ELEMENTS} = {n_el} the nearest nodes are at {:.6} and {:.6} of the length",
-                    lo / length,
-                    hi / length
-                ));
-            }
-            Ok(k)
+        let length = m.stations.length();
+        let node_at = |key: String, at: f64| {
+            m.stations
+                .node_at(&key, at, MESH_N_ELEMENTS)
+                .map_err(|e| format!("{e} (the nodes follow from {MESH_N_ELEMENTS} and the lengths of the centreline.segments)"))
         };
         let mut constrained = vec![false; n_nodes * NODE_DOFS];
         for (i, s) in scene.supports.iter().enumerate() {
@@ -304,7 +231,7 @@ impl Corot3dModel {
         for (i, l) in scene.loads.iter().enumerate() {
             loads.push(NodeLoad {
                 node: node_at(format!("loads[{i}]"), l.at)?,
-                values: [l.fx, l.fy, l.fz, l.mx, l.my, l.mz],
+                values: [l.fx, l.fy, l.fz, l.mx, l.my, l.mz].map(InputSignal::constant),
                 follower: l.follower,
             });
         }
@@ -338,13 +265,16 @@ impl Corot3dModel {
             loads,
             probes,
             scales,
+            t: 0.0,
             q: q0.clone(),
             v: vec![0.0; n_full],
+            acc: vec![0.0; n_full],
             qw: q0,
             vw: vec![0.0; n_full],
             aw: vec![0.0; n_full],
             fw: vec![0.0; n_full],
             qmid: vec![0.0; n_free],
+            roles: io(scene),
         })
     }
 
@@ -380,23 +310,91 @@ impl Corot3dModel {
 
     /// Kinetic energy [J] of the committed state.
     pub fn kinetic_energy(&self) -> f64 {
-        self.set
-            .kinetic_energy(&self.q, &self.v, Some(&self.frames))
+        self.kinetic_energy_at(&self.q, &self.v)
     }
 
     /// Gravity potential [J] of the committed state (relative to the origin).
     pub fn potential_energy(&self) -> f64 {
+        self.potential_energy_at(&self.q)
+    }
+
+    /// Strain energy [J] of the committed state.
+    pub fn strain_energy(&self) -> f64 {
+        self.strain_energy_at(&self.q)
+    }
+
+    /// Kinetic energy [J] at full coordinates `q` (rotation vectors in the chart of the stored
+    /// orientations) and rates `v` (body angular velocities).
+    fn kinetic_energy_at(&self, q: &[f64], v: &[f64]) -> f64 {
+        self.set.kinetic_energy(q, v, Some(&self.frames))
+    }
+
+    /// Gravity potential [J] at full coordinates `q`.
+    fn potential_energy_at(&self, q: &[f64]) -> f64 {
         let mut v = 0.0;
         self.set
-            .for_each_state(&self.q, &self.v, Some(&self.frames), |_, el, s| {
+            .for_each_state(q, &self.v, Some(&self.frames), |_, el, s| {
                 v += el.gravity_potential(&Corot3d::nodes_of(s), &self.gravity);
             });
         v
     }
 
-    /// Strain energy [J] of the committed state.
-    pub fn strain_energy(&self) -> f64 {
-        self.set.strain_energy(&self.q, Some(&self.frames))
+    /// Strain energy [J] at full coordinates `q`.
+    fn strain_energy_at(&self, q: &[f64]) -> f64 {
+        self.set.strain_energy(q, Some(&self.frames))
+    }
+
+    /// Time derivative of an output of the committed state: positions, velocities, angular
+    /// velocities and direction cosines analytically (`ẋ`, `ẍ`, `R Ẇ`, `ω × t`); the rotation
+    /// vector φ by `φ̇ = T_s(φ)⁻¹ ω` (not defined within 1e-6 rad of |φ| = π, where the
+    /// principal value jumps: `None`); energies along the motion ([`rates::along_motion`]).
+    fn output_rate(&self, kind: Output) -> Option<f64> {
+        let energy = |f: &dyn Fn(&[f64], &[f64]) -> f64| {
+            let mut work = [Vec::new(), Vec::new()];
+            rates::along_motion(&self.q, &self.v, &self.acc, &mut work, f)
+        };
+        match kind {
+            Output::Probe { probe, quantity } => {
+                let p = &self.probes[probe];
+                let b = p.node * NODE_DOFS;
+                let r = self.node_rotation(p.node);
+                let omega = r * self.node_angular_velocity(p.node);
+                let v3 = |x: &[f64], i: usize| Vector3::new(x[i], x[i + 1], x[i + 2]);
+                use ProbeQuantity::*;
+                let (vec, axis) = match quantity {
+                    X | Y | Z => (v3(&self.v, b), [X, Y, Z]),
+                    Vx | Vy | Vz => (v3(&self.acc, b), [Vx, Vy, Vz]),
+                    Wx | Wy | Wz => (r * v3(&self.acc, b + 3), [Wx, Wy, Wz]),
+                    Tx | Ty | Tz => (omega.cross(&(r * p.tangent)), [Tx, Ty, Tz]),
+                    Rx | Ry | Rz => {
+                        let phi = UnitQuaternion::from_matrix(&r).scaled_axis();
+                        if phi.norm() > std::f64::consts::PI - 1e-6 {
+                            return None;
+                        }
+                        (tangent_spatial_inv(&phi) * omega, [Rx, Ry, Rz])
+                    }
+                };
+                Some(vec[axis.iter().position(|x| *x == quantity).unwrap_or(0)])
+            }
+            Output::Energy(k) => Some(match k {
+                EnergyKind::Kinetic => energy(&|q, v| self.kinetic_energy_at(q, v)),
+                EnergyKind::Potential => energy(&|q, _| self.potential_energy_at(q)),
+                EnergyKind::Strain => energy(&|q, _| self.strain_energy_at(q)),
+                EnergyKind::Total => energy(&|q, v| {
+                    self.kinetic_energy_at(q, v)
+                        + self.potential_energy_at(q)
+                        + self.strain_energy_at(q)
+                }),
+            }),
+        }
+    }
+
+    /// The signal of a load or moment input.
+    fn input_signal(&mut self, input: usize) -> &mut InputSignal {
+        match self.roles.inputs[input] {
+            Input::Load { load, axis } => &mut self.loads[load].values[axis],
+            Input::Moment { load, axis } => &mut self.loads[load].values[3 + axis],
+        }
     }
 
     /// Linear momentum `∂T/∂ẋ` summed over the nodes [kg m/s] of the committed state.
@@ -427,9 +425,9 @@ impl Corot3dModel {
         h
     }
 
-    fn output_of(&self, kind: OutputKind) -> f64 {
+    fn output_of(&self, kind: Output) -> f64 {
         match kind {
-            OutputKind::Probe { probe, quantity } => {
+            Output::Probe { probe, quantity } => {
                 let p = &self.probes[probe];
                 let b = p.node * NODE_DOFS;
                 let r = || self.node_rotation(p.node);
@@ -464,10 +462,7 @@ impl Corot3dModel {
                     }
                 }
             }
-            OutputKind::Reaction { .. } | OutputKind::Belt(_) => {
-                unreachable!("3D beam scenes declare no motion ports and no pulleys")
-            }
-            OutputKind::Energy(k) => match k {
+            Output::Energy(k) => match k {
                 EnergyKind::Kinetic => self.kinetic_energy(),
                 EnergyKind::Potential => self.potential_energy(),
                 EnergyKind::Strain => self.strain_energy(),
@@ -478,10 +473,11 @@ impl Corot3dModel {
         }
     }
 
-    /// Residual and iteration matrix of the configuration in `self.qw`, rates in `self.vw`,
-    /// `self.aw`; the stiffness part of the iteration matrix is scaled by `k_scale`.
+    /// Residual and iteration matrix at time `t` [s] (load signals) of the configuration in
+    /// `self.qw`, rates in `self.vw`, `self.aw`; the stiffness part of the iteration matrix is scaled by `k_scale`.
     fn assemble(
         &mut self,
+        t: f64,
         lambda: f64,
         k_scale: f64,
         r: &mut [f64],
@@ -511,8 +507,9 @@ impl Corot3dModel {
         for l in &self.loads {
             let b = l.node * NODE_DOFS;
             let rot = &frames[l.node].rot;
-            let force = Vector3::new(l.values[0], l.values[1], l.values[2]) * lambda;
-            let moment = Vector3::new(l.values[3], l.values[4], l.values[5]) * lambda;
+            let at = |i: usize| l.values[i].at(t) * lambda;
+            let force = Vector3::new(at(0), at(1), at(2));
+            let moment = Vector3::new(at(3), at(4), at(5));
             // Residual −f_ext; `blk` = ∂(−f_ext)/∂W (body spin) for the rows x or θ.
             let (fx, mb, blk, rows) = if l.follower {
                 let fx = rot * force;
@@ -525,15 +522,14 @@ impl Corot3dModel {
                 fw[b + c] -= fx[c];
                 fw[b + 3 + c] -= mb[c];
             }
-            if let Some((c, vals)) = jac.as_mut() {
-                if force != Vector3::zeros() && l.follower
-                    || moment != Vector3::zeros() && !l.follower
-                {
-                    let d = blk * frames[l.node].tangent * (c.stiffness * k_scale);
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            self.asm.add_entry(b + rows + i, b + 3 + j, d[(i, j)], vals);
-                        }
+            if let Some((c, vals)) = jac.as_mut()
+                && (force != Vector3::zeros() && l.follower
+                    || moment != Vector3::zeros() && !l.follower)
+            {
+                let d = blk * frames[l.node].tangent * (c.stiffness * k_scale);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        self.asm.add_entry(b + rows + i, b + 3 + j, d[(i, j)], vals);
                     }
                 }
             }
@@ -554,7 +550,7 @@ impl Corot3dModel {
         let mut r = vec![0.0; n];
         let mut dense = |c: JacobianCoeffs, s: &mut Self| {
             let mut vals = vec![0.0; s.asm.pattern.nnz()];
-            s.residual(0.0, &q, &zeros, &zeros, 0.0, &mut r, Some((c, &mut vals)))
+            s.residual(s.t, &q, &zeros, &zeros, 0.0, &mut r, Some((c, &mut vals)))
                 .expect("finite");
             let p = &s.asm.pattern;
             let mut m = nalgebra::DMatrix::zeros(n, n);
@@ -585,19 +581,31 @@ impl Corot3dModel {
     }
 }
 
-impl Model for Corot3dModel {
-    fn set_input(&mut self, kind: InputKind, value: f64) {
-        match kind {
-            InputKind::Load { load, axis } => self.loads[load].values[axis] = value,
-            InputKind::Moment { load, axis } => self.loads[load].values[3 + axis] = value,
-            InputKind::Motion { .. } | InputKind::Pulley { .. } => {
-                unreachable!("3D beam scenes declare no motion ports and no pulleys")
-            }
-        }
+impl Model for Beam3d {
+    fn set_input(&mut self, input: usize, value: f64) {
+        let t = self.t;
+        self.input_signal(input).set(value, t);
     }
 
-    fn output(&self, kind: OutputKind) -> f64 {
-        self.output_of(kind)
+    fn set_input_derivative(
+        &mut self,
+        input: usize,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String> {
+        if !(1..=2).contains(&order) {
+            return Err(format!("derivative order {order} not supported (1 or 2)"));
+        }
+        self.input_signal(input).set_derivative(order, value);
+        Ok(())
+    }
+
+    fn output(&self, output: usize) -> f64 {
+        self.output_of(self.roles.outputs[output])
+    }
+
+    fn output_derivative(&self, output: usize) -> Option<f64> {
+        self.output_rate(self.roles.outputs[output])
     }
 
     fn accept(&mut self, state: &mut DynState) {
@@ -607,6 +615,8 @@ impl Model for Corot3dModel {
         self.asm.dofs.restrict(&q, &mut state.q);
         self.q = q;
         self.asm.dofs.expand(&state.v, &mut self.v);
+        self.asm.dofs.expand(&state.acc, &mut self.acc);
+        self.t = state.t;
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
@@ -614,30 +624,35 @@ impl Model for Corot3dModel {
         self.asm.dofs.restrict(&self.v, v);
     }
 
-    /// Committed coordinates and velocities, nodal orientations (quaternions) and loads.
+    /// Committed time, coordinates, velocities and accelerations, nodal orientations
+    /// (quaternions) and load signals.
     fn save(&self, w: &mut StateWriter) -> Result<(), String> {
+        w.f64(self.t);
         w.f64s(&self.q);
         w.f64s(&self.v);
+        w.f64s(&self.acc);
         self.frames.save(w);
-        for l in &self.loads {
-            w.f64s(&l.values);
+        for sig in self.loads.iter().flat_map(|l| &l.values) {
+            sig.save(w);
         }
         Ok(())
     }
 
     fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
         let e = |e: crate::snapshot::SnapshotError| e.to_string();
+        self.t = r.f64().map_err(e)?;
         r.f64s_into(&mut self.q).map_err(e)?;
         r.f64s_into(&mut self.v).map_err(e)?;
+        r.f64s_into(&mut self.acc).map_err(e)?;
         self.frames.restore(r)?;
-        for l in self.loads.iter_mut() {
-            r.f64s_into(&mut l.values).map_err(e)?;
+        for sig in self.loads.iter_mut().flat_map(|l| &mut l.values) {
+            *sig = InputSignal::restore(r).map_err(e)?;
         }
         Ok(())
     }
 }
 
-impl MechanicalSystem for Corot3dModel {
+impl MechanicalSystem for Beam3d {
     fn n_free(&self) -> usize {
         self.asm.dofs.n_free()
     }
@@ -652,7 +667,7 @@ impl MechanicalSystem for Corot3dModel {
 
     fn residual(
         &mut self,
-        _t: f64,
+        t: f64,
         q: &[f64],
         v: &[f64],
         a: &[f64],
@@ -663,7 +678,7 @@ impl MechanicalSystem for Corot3dModel {
         self.asm.dofs.expand(q, &mut self.qw);
         self.asm.dofs.expand(v, &mut self.vw);
         self.asm.dofs.expand(a, &mut self.aw);
-        self.assemble(load_factor, 1.0, r, jac)
+        self.assemble(t, load_factor, 1.0, r, jac)
     }
 
     /// Implicit midpoint rule: the residual at the mean configuration `(q_a + q_b)/2` (in the
@@ -673,8 +688,8 @@ impl MechanicalSystem for Corot3dModel {
     /// the coordinates) it is second order but not exactly energy conserving.
     fn midpoint_residual(
         &mut self,
-        _t_a: f64,
-        _t_b: f64,
+        t_a: f64,
+        t_b: f64,
         q_a: &[f64],
         q_b: &[f64],
         v: &[f64],
@@ -690,7 +705,7 @@ impl MechanicalSystem for Corot3dModel {
         self.qmid = qm;
         self.asm.dofs.expand(v, &mut self.vw);
         self.asm.dofs.expand(a, &mut self.aw);
-        self.assemble(1.0, 0.5, r, jac)
+        self.assemble(0.5 * (t_a + t_b), 1.0, 0.5, r, jac)
     }
 
     fn rebase(&mut self, q: &mut [f64]) {

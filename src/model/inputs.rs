@@ -76,3 +76,21 @@ impl InputSignal {
         })
     }
 }
+
+/// Prescribed position, velocity and acceleration of a coordinate driven by a position and a
+/// velocity input (a motion port, a driven pulley) at `t`:
+/// the position input's own polynomial if derivatives were given, otherwise the position
+/// advanced with the velocity input (integrated exactly).
+pub fn prescribed(pos: &InputSignal, vel: &InputSignal, t: f64) -> (f64, f64, f64) {
+    if pos.interpolated {
+        (pos.at(t), pos.rate_at(t), pos.accel())
+    } else {
+        let tau = t - pos.t_ref;
+        let [d1, d2] = vel.derivatives;
+        (
+            pos.value + tau * (vel.value + tau * (0.5 * d1 + tau * d2 / 6.0)),
+            vel.value + tau * (d1 + 0.5 * tau * d2),
+            d1 + tau * d2,
+        )
+    }
+}

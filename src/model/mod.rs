@@ -2,10 +2,10 @@
 
 pub mod beam2d;
 pub mod belt_drive;
-pub mod belt_layout;
 pub mod corot3d;
 mod factory;
 pub mod inputs;
+pub mod rates;
 mod system;
 
 pub use factory::build_model;

@@ -4,7 +4,6 @@
 use crate::integrators::DynState;
 use crate::linalg::CscPattern;
 use crate::snapshot::{StateReader, StateWriter};
-use crate::variables::{InputKind, OutputKind};
 
 /// Coefficients of the iteration matrix `J = mass·∂r/∂a + damping·∂r/∂v + stiffness·∂r/∂q`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,35 +82,36 @@ pub trait MechanicalSystem {
 }
 
 /// A model as the simulation driver and the FMU see it: a mechanical system with inputs,
-/// outputs and a committed state.
-pub trait Model: MechanicalSystem + Send {
-    /// Sets an input value at the model's current (committed) time; clears its derivatives.
-    fn set_input(&mut self, kind: InputKind, value: f64);
+/// outputs and a committed state. Every optional FMI feature flexfmu declares
+/// ([`crate::model_description::Capabilities::ALL`]: input interpolation, output derivatives,
+/// FMU state) is a required method here, so a kind cannot declare what its model lacks.
+pub trait Model: MechanicalSystem + Send + std::any::Any {
+    /// Sets input `input` (its index among the scene's inputs, see
+    /// [`crate::kinds::KindIo`]) at the model's current (committed) time; clears its
+    /// derivatives.
+    fn set_input(&mut self, input: usize, value: f64);
 
     /// Sets the `order`-th (1 or 2) time derivative of an input at the model's current time,
     /// for polynomial extrapolation inside the next communication step
     /// (`fmi2SetRealInputDerivatives`). Models that cannot interpolate return an error.
     fn set_input_derivative(
         &mut self,
-        _kind: InputKind,
-        _order: usize,
-        _value: f64,
-    ) -> Result<(), String> {
-        Err("this model cannot interpolate inputs".into())
-    }
+        input: usize,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String>;
 
-    /// An output of the committed state with the current inputs.
-    fn output(&self, kind: OutputKind) -> f64;
+    /// Output `output` (its index among the scene's outputs) of the committed state with the
+    /// current inputs.
+    fn output(&self, output: usize) -> f64;
 
     /// First time derivative of an output at the committed state, if the model provides it.
-    fn output_derivative(&self, _kind: OutputKind) -> Option<f64> {
-        None
-    }
+    fn output_derivative(&self, output: usize) -> Option<f64>;
 
     /// Partial derivative of an output with respect to an input at the committed state
     /// (states frozen, FMI 2.0 Co-Simulation directional derivative), if the model provides it
     /// analytically.
-    fn output_input_derivative(&mut self, _output: OutputKind, _input: InputKind) -> Option<f64> {
+    fn output_input_derivative(&mut self, _output: usize, _input: usize) -> Option<f64> {
         None
     }
 
@@ -142,20 +142,16 @@ pub trait Model: MechanicalSystem + Send {
 
     /// Writes everything the model needs besides the integrator state to continue exactly:
     /// inputs, committed state, history variables.
-    fn save(&self, _w: &mut StateWriter) -> Result<(), String> {
-        Err("this model cannot save its state".into())
-    }
+    fn save(&self, w: &mut StateWriter) -> Result<(), String>;
 
     /// Restores what [`Model::save`] wrote.
-    fn restore(&mut self, _r: &mut StateReader) -> Result<(), String> {
-        Err("this model cannot restore a state".into())
-    }
+    fn restore(&mut self, r: &mut StateReader) -> Result<(), String>;
 
     /// Whether a change of this input calls for new consistent accelerations at the start of
     /// the next step (default: yes). Inputs that change every communication step as a smooth
     /// signal (a prescribed pulley angle) can say no: the integrator continues with its own
     /// accelerations, which keeps the scheme's energy behaviour and saves a factorization.
-    fn input_restarts_accelerations(&self, _kind: crate::variables::InputKind) -> bool {
+    fn input_restarts_accelerations(&self, _input: usize) -> bool {
         true
     }
 }

@@ -2,7 +2,8 @@
 //! values) and their validation, shared by the CLI and the FMU. Each scene kind declares its
 //! own parameters (e.g. [`super::beam2d`]); the solver and gravity parameters are common.
 
-use super::file::{Choice, SceneFile};
+use super::tables::{Choice, Gravity2d, Gravity3d, SolverSection};
+use crate::units::Unit;
 use crate::variables::{Value, VarType};
 use std::collections::BTreeMap;
 
@@ -158,7 +159,7 @@ pub struct ParamDef {
     /// Default value (from the scene file), which also fixes the type.
     pub start: Value,
     /// Unit (Real only).
-    pub unit: Option<&'static str>,
+    pub unit: Option<Unit>,
     /// Description.
     pub description: String,
     /// Fixed or tunable.
@@ -172,7 +173,7 @@ impl ParamDef {
     pub fn new(
         name: &'static str,
         start: Value,
-        unit: Option<&'static str>,
+        unit: Option<Unit>,
         description: &str,
         check: Check,
     ) -> Self {
@@ -235,47 +236,39 @@ pub fn int_param(v: i64, key: &str) -> Result<i32, String> {
     i32::try_from(v).map_err(|_| format!("{key}: {v} does not fit a 32-bit Integer"))
 }
 
-/// Gravity parameters, if the scene has a `[gravity]` table (components x, y; and z for 3D
-/// element types).
-pub fn gravity_params(scene: &SceneFile) -> Vec<ParamDef> {
-    let mut defs = gravity_params_planar(scene);
-    if let (Some(g), true) = (&scene.gravity, scene.element.kind.is_3d()) {
-        defs.push(ParamDef::new(
-            GRAVITY_Z,
-            Value::Real(g.z),
-            Some("m/s2"),
-            "Gravity, z component",
-            Check::Finite,
-        ));
-    }
-    defs
+/// Gravity parameters `gravity.x`, `gravity.y` of a planar scene with a `[gravity]` table.
+pub fn gravity_params_2d(g: Option<&Gravity2d>) -> Vec<ParamDef> {
+    g.map_or(vec![], |g| gravity_params(&[g.x, g.y]))
 }
 
-fn gravity_params_planar(scene: &SceneFile) -> Vec<ParamDef> {
-    match &scene.gravity {
-        None => vec![],
-        Some(g) => vec![
-            ParamDef::new(
-                GRAVITY_X,
-                Value::Real(g.x),
-                Some("m/s2"),
-                "Gravity, x component",
-                Check::Finite,
-            ),
-            ParamDef::new(
-                GRAVITY_Y,
-                Value::Real(g.y),
-                Some("m/s2"),
-                "Gravity, y component",
-                Check::Finite,
-            ),
-        ],
-    }
+/// Gravity parameters `gravity.x`, `gravity.y`, `gravity.z` of a 3D scene with a `[gravity]`
+/// table.
+pub fn gravity_params_3d(g: Option<&Gravity3d>) -> Vec<ParamDef> {
+    g.map_or(vec![], |g| gravity_params(&[g.x, g.y, g.z]))
+}
+
+fn gravity_params(components: &[f64]) -> Vec<ParamDef> {
+    [
+        (GRAVITY_X, "Gravity, x component"),
+        (GRAVITY_Y, "Gravity, y component"),
+        (GRAVITY_Z, "Gravity, z component"),
+    ]
+    .iter()
+    .zip(components)
+    .map(|((name, what), v)| {
+        ParamDef::new(
+            name,
+            Value::Real(*v),
+            Some(Unit::MPerS2),
+            what,
+            Check::Finite,
+        )
+    })
+    .collect()
 }
 
 /// The `solver.*` parameters common to every scene.
-pub fn solver_params(scene: &SceneFile) -> Result<Vec<ParamDef>, String> {
-    let s = &scene.solver;
+pub fn solver_params(s: &SolverSection) -> Result<Vec<ParamDef>, String> {
     Ok(vec![
         ParamDef::new(
             SOLVER_STATIC,
@@ -298,14 +291,14 @@ pub fn solver_params(scene: &SceneFile) -> Result<Vec<ParamDef>, String> {
         ParamDef::new(
             SOLVER_RHO_INF,
             Value::Real(s.rho_inf),
-            Some("1"),
+            Some(Unit::One),
             "Spectral radius at infinite frequency of generalized-alpha, in [0, 1]",
             Check::Closed(0.0, 1.0),
         ),
         ParamDef::new(
             SOLVER_MAX_STEP,
             Value::Real(s.max_step),
-            Some("s"),
+            Some(Unit::S),
             "Largest internal time step",
             Check::Positive,
         )
@@ -313,7 +306,7 @@ pub fn solver_params(scene: &SceneFile) -> Result<Vec<ParamDef>, String> {
         ParamDef::new(
             SOLVER_TOLERANCE,
             Value::Real(s.tolerance),
-            Some("1"),
+            Some(Unit::One),
             "Local error tolerance of adaptive internal steps, relative to the body length (0: fixed steps of solver.max_step)",
             Check::Closed(0.0, 1.0),
         )
@@ -332,7 +325,7 @@ pub fn solver_params(scene: &SceneFile) -> Result<Vec<ParamDef>, String> {
         ParamDef::new(
             SOLVER_NEWTON_TOL,
             Value::Real(s.newton_tolerance),
-            Some("1"),
+            Some(Unit::One),
             "Newton tolerance on the increment, relative to the body length",
             Check::Open(0.0, 1.0),
         )

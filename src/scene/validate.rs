@@ -1,8 +1,8 @@
 //! Checks of a scene file common to all kinds: names, experiment, uniqueness of variable names.
-//! Kind-specific checks live with the kind (e.g. [`super::beam2d::check`]).
+//! Kind-specific checks live with the kind (e.g. [`crate::kinds::beam_2d::scene::check`]).
 
-use super::file::SceneFile;
 use super::params::ParamDef;
+use super::tables::CommonTables;
 use crate::variables::IoVariable;
 use std::collections::BTreeSet;
 
@@ -11,24 +11,6 @@ pub fn is_identifier(s: &str) -> bool {
     let mut chars = s.chars();
     matches!(chars.next(), Some(c) if c.is_ascii_alphabetic())
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
-}
-
-/// Records a missing table of `required` (name, present) as required for `owner`.
-pub fn require_tables(required: &[(&str, bool)], owner: &str, errs: &mut Vec<String>) {
-    for (name, present) in required {
-        if !present {
-            errs.push(format!("[{name}]: required for {owner}"));
-        }
-    }
-}
-
-/// Records every key of `unused` (key, present) that is present: `"{key}: {why}"`.
-pub fn reject_present(unused: &[(&str, bool)], why: &str, errs: &mut Vec<String>) {
-    for (key, present) in unused {
-        if *present {
-            errs.push(format!("{key}: {why}"));
-        }
-    }
 }
 
 /// Records the outputs a probe `key` lists twice.
@@ -61,7 +43,7 @@ pub fn check_identifier(key: &str, name: &str, errs: &mut Vec<String>) {
 }
 
 /// Problems of the `[fmu]` and `[experiment]` tables.
-pub fn check_common(s: &SceneFile) -> Result<(), Vec<String>> {
+pub fn check_common(s: &CommonTables) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
     if !is_identifier(&s.fmu.model_name) {
         errs.push(format!(
@@ -105,7 +87,8 @@ pub fn check_names(params: &[ParamDef], io: &[IoVariable]) -> Result<(), Vec<Str
     {
         if !seen.insert(name.clone()) {
             errs.push(format!(
-                "variable {name} is declared twice (rename the load or probe)"
+                "variable {name} is declared twice: rename one of the [[loads]], [[probes]] or [[motions]] entries named \"{}\"",
+                name.split('.').next().unwrap_or(&name)
             ));
         }
     }

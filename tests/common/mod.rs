@@ -34,7 +34,7 @@ pub fn simulation(scene: &Scene, overrides: &[(&str, Value)]) -> Result<Simulati
             .by_name(name)
             .unwrap_or_else(|| panic!("no variable {name}"));
         match v.role {
-            Role::Parameter(p) => params.set(p, *value),
+            Role::Parameter(p) => set_param(&mut params, p, *value),
             Role::Input(k) => match value {
                 Value::Real(x) => inputs.push((k, *x)),
                 _ => panic!("inputs are Real"),
@@ -50,6 +50,17 @@ pub fn simulation(scene: &Scene, overrides: &[(&str, Value)]) -> Result<Simulati
     let mut sim = Simulation::new(model, cfg, 0.0)?;
     sim.initialize()?;
     Ok(sim)
+}
+
+/// The index of input `name` among the scene's inputs (what `Model::set_input` takes).
+pub fn input_index(scene: &Scene, name: &str) -> usize {
+    match VariableTable::from_scene(scene)
+        .by_name(name)
+        .map(|v| v.role)
+    {
+        Some(Role::Input(k)) => k,
+        other => panic!("{name} is not an input: {other:?}"),
+    }
 }
 
 /// An output of a simulation by variable name.
@@ -68,6 +79,17 @@ pub fn output(scene: &Scene, sim: &Simulation, name: &str) -> f64 {
 /// Log of an instance: status, category, message of every delivered message.
 pub type Log = Rc<RefCell<Vec<(Status, String, String)>>>;
 
+thread_local! {
+    /// The last Warning/Discard/Error/Fatal message of any instance made by [`instance`] on
+    /// this thread (each test runs on its own thread): quoted when a status check fails.
+    static LAST_PROBLEM: RefCell<String> = const { RefCell::new(String::new()) };
+}
+
+/// The last Warning-or-worse message logged on this thread, for panic messages.
+fn last_problem() -> String {
+    LAST_PROBLEM.with(|m| m.borrow().clone())
+}
+
 /// An instance of a shipped scene whose log messages are collected.
 pub fn instance(scene_name: &str, logging_on: bool) -> (Instance, Log) {
     let log: Log = Rc::default();
@@ -76,7 +98,12 @@ pub fn instance(scene_name: &str, logging_on: bool) -> (Instance, Log) {
         "test",
         scene(scene_name),
         logging_on,
-        Box::new(move |s, c, m| l2.borrow_mut().push((s, c.to_string(), m.to_string()))),
+        Box::new(move |s, c, m| {
+            if s >= Status::Warning {
+                LAST_PROBLEM.with(|p| *p.borrow_mut() = m.to_string());
+            }
+            l2.borrow_mut().push((s, c.to_string(), m.to_string()))
+        }),
     );
     (inst, log)
 }
@@ -97,15 +124,49 @@ pub fn vr(inst: &Instance, name: &str) -> u32 {
         .vr
 }
 
-/// Sets a variable by name with the fmi2Set call of its type.
-pub fn set(inst: &mut Instance, name: &str, v: Value) -> Status {
-    let call = match v {
+/// Panics unless `got` is `expected`, naming the call and quoting the last problem message.
+#[track_caller]
+pub fn expect_status(got: Status, expected: Status, call: impl std::fmt::Display) {
+    if got != expected {
+        panic!(
+            "{call} returned {got:?}, expected {expected:?}; last message: \"{}\"",
+            last_problem()
+        );
+    }
+}
+
+/// The fmi2Set call of a value's type.
+fn set_call(v: &Value) -> Call {
+    match v {
         Value::Real(_) => Call::SetReal,
         Value::Integer(_) => Call::SetInteger,
         Value::Boolean(_) => Call::SetBoolean,
-    };
+    }
+}
+
+/// Sets a variable by name with the fmi2Set call of its type and returns the status unchecked:
+/// only for callers that assert the status themselves (prefer [`set`] and [`set_expect`]).
+pub fn try_set(inst: &mut Instance, name: &str, v: Value) -> Status {
     let r = vr(inst, name);
-    inst.set(call, &[r], &[v])
+    inst.set(set_call(&v), &[r], &[v])
+}
+
+/// Sets a variable by name; the call must return fmi2OK (a rejected value would otherwise run
+/// silently at its default).
+#[track_caller]
+pub fn set(inst: &mut Instance, name: &str, v: Value) {
+    set_expect(inst, name, v, Status::Ok);
+}
+
+/// Sets a variable by name and checks that the call returns exactly `expected`.
+#[track_caller]
+pub fn set_expect(inst: &mut Instance, name: &str, v: Value, expected: Status) {
+    let s = try_set(inst, name, v);
+    expect_status(
+        s,
+        expected,
+        format_args!("{:?}({name} = {v:?})", set_call(&v)),
+    );
 }
 
 /// fmi2GetReal of one variable by name: the status and the value (NaN when none came).
@@ -121,8 +182,61 @@ pub fn get_real(inst: &mut Instance, name: &str) -> (Status, f64) {
 }
 
 /// fmi2GetReal of one variable by name, which must succeed.
+#[track_caller]
 pub fn get(inst: &mut Instance, name: &str) -> f64 {
     let (s, x) = get_real(inst, name);
-    assert_eq!(s, Status::Ok, "fmi2GetReal({name})");
+    expect_status(s, Status::Ok, format_args!("fmi2GetReal({name})"));
     x
+}
+
+/// fmi2SetupExperiment (start time 0, no tolerance, no stop time), fmi2EnterInitializationMode
+/// and fmi2ExitInitializationMode, each of which must succeed.
+#[track_caller]
+pub fn init(inst: &mut Instance) {
+    expect_status(
+        inst.setup_experiment(None, 0.0, None),
+        Status::Ok,
+        "fmi2SetupExperiment",
+    );
+    expect_status(
+        inst.enter_initialization_mode(),
+        Status::Ok,
+        "fmi2EnterInitializationMode",
+    );
+    expect_status(
+        inst.exit_initialization_mode(),
+        Status::Ok,
+        "fmi2ExitInitializationMode",
+    );
+}
+
+/// fmi2DoStep from `t` over `h` [s], which must succeed.
+#[track_caller]
+pub fn step(inst: &mut Instance, t: f64, h: f64) {
+    expect_status(
+        inst.do_step(t, h),
+        Status::Ok,
+        format_args!("fmi2DoStep(t = {t}, h = {h})"),
+    );
+}
+
+/// Communication steps of `h` [s] from `t0` to `t1` [s], each of which must succeed.
+#[track_caller]
+pub fn run(inst: &mut Instance, t0: f64, t1: f64, h: f64) {
+    let n = ((t1 - t0) / h).round() as usize;
+    for k in 0..n {
+        step(inst, t0 + k as f64 * h, h);
+    }
+}
+
+/// Sets a parameter of a parameter set by name, checking that the scene has it with the same
+/// type (a misspelled name or a wrong type would otherwise be ignored by the model).
+#[track_caller]
+pub fn set_param(p: &mut ParamValues, name: &'static str, v: Value) {
+    match (p.get(name), v) {
+        (Some(Value::Real(_)), Value::Real(_))
+        | (Some(Value::Integer(_)), Value::Integer(_))
+        | (Some(Value::Boolean(_)), Value::Boolean(_)) => p.set(name, v),
+        (old, _) => panic!("parameter {name}: the scene has {old:?}, the test sets {v:?}"),
+    }
 }

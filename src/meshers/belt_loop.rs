@@ -73,7 +73,7 @@ impl Loop {
             let a = (ci.radius - cj.radius) / l;
             if l.is_nan() || l <= 0.0 || a.abs() >= 1.0 {
                 return Err(format!(
-                    "pulleys {} and {}: the centre distance {l:.6} m must exceed the difference of the pitch radii {:.6} m",
+                    "pulley{0}.radius, pulley{1}.radius (pulleys {0} and {1}): the centre distance {l:.6} m must exceed the difference of the pitch radii {2:.6} m",
                     i + 1,
                     j + 1,
                     (ci.radius - cj.radius).abs()

@@ -1,13 +1,78 @@
-//! Scene kind "belt drive": a closed belt of ANCF cable (or seed-000) elements around pulleys
-//! that are driven (motion in, belt torque out) or free (inertia inside the FMU, torque in):
-//! required tables, parameters, inputs and outputs.
+//! Kind `belt_drive`: checks of the tables, parameters, inputs and outputs, and what each
+//! input and output means to the model.
 
-use super::file::{PulleyMode, SceneFile};
-use super::params::{Check, ParamDef, describe, int_param, resolve_choice};
-use super::validate::{reject_present, require_tables};
-use crate::variables::{
-    BeltOutput, EnergyKind, InputKind, IoVariable, OutputKind, PulleyInput, Value,
+use super::{BeltDriveScene, BeltElementType, PulleyMode};
+use crate::kinds::KindIo;
+use crate::kinds::energy::{EnergyKind, declare_energy_outputs};
+use crate::scene::params::{
+    Check, ParamDef, describe, gravity_params_2d, int_param, resolve_choice,
 };
+use crate::units::Unit;
+use crate::variables::Value;
+
+/// What a pulley input sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PulleyInput {
+    /// `pulleyN.angle`: prescribed angle of a driven pulley [rad].
+    Angle,
+    /// `pulleyN.omega`: prescribed angular velocity of a driven pulley [rad/s].
+    Omega,
+    /// `pulleyN.torque_in`: external torque on a free pulley [N m].
+    Torque,
+}
+
+/// What an input of a belt drive drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Input {
+    /// A pulley input.
+    Pulley {
+        /// Index of the pulley (0 for `pulley1`).
+        pulley: usize,
+        /// Which quantity.
+        quantity: PulleyInput,
+    },
+}
+
+/// Outputs of belt-drive scenes (pulley indices start at 0 for `pulley1`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BeltOutput {
+    /// `pulleyN.torque`: torque the belt exerts on the pulley about its centre [N m]
+    /// (counter-clockwise positive).
+    PulleyTorque(usize),
+    /// `pulleyN.force_x`: force the belt exerts on the pulley, x [N].
+    PulleyForceX(usize),
+    /// `pulleyN.force_y`: force the belt exerts on the pulley, y [N].
+    PulleyForceY(usize),
+    /// `pulleyN.angle` of a free pulley [rad].
+    PulleyAngle(usize),
+    /// `pulleyN.omega` of a free pulley [rad/s].
+    PulleyOmega(usize),
+    /// `belt.tension_tight`: the larger span tension [N].
+    TensionTight,
+    /// `belt.tension_slack`: the smaller span tension [N].
+    TensionSlack,
+    /// `belt.slip`: `1 − ω_last ρ_last / (ω_1 ρ_1)` (speed loss by creep and slip) [1].
+    Slip,
+    /// `belt.speed`: mean speed of the belt nodes [m/s].
+    Speed,
+    /// `belt.point[i].x` [m].
+    PointX(usize),
+    /// `belt.point[i].y` [m].
+    PointY(usize),
+    /// `energy.input_work`: work of the pulley drives and input torques since t = 0 [J].
+    InputWork,
+    /// `energy.dissipated`: energy dissipated by contact, friction and damping since t = 0 [J].
+    Dissipated,
+}
+
+/// What an output of a belt drive reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// A belt or pulley quantity.
+    Belt(BeltOutput),
+    /// An energy.
+    Energy(EnergyKind),
+}
 
 /// Largest number of pulleys of a belt-drive scene.
 pub const MAX_PULLEYS: usize = 8;
@@ -78,25 +143,8 @@ pub const PULLEY_INERTIA: [&str; MAX_PULLEYS] = pulley_names!("inertia");
 pub const PULLEY_DAMPING: [&str; MAX_PULLEYS] = pulley_names!("damping");
 
 /// Problems of a belt-drive scene.
-pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
+pub fn check(s: &BeltDriveScene) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
-    require_tables(
-        &[("belt", s.belt.is_some()), ("contact", s.contact.is_some())],
-        "a belt drive",
-        &mut errs,
-    );
-    reject_present(
-        &[
-            ("[mesh]", s.mesh.is_some()),
-            ("[geometry]", s.geometry.is_some()),
-            ("[material]", s.material.is_some()),
-        ],
-        "not used by a belt drive (the belt is described by [belt])",
-        &mut errs,
-    );
-    if !s.supports.is_empty() || !s.loads.is_empty() || !s.probes.is_empty() {
-        errs.push("[[supports]], [[loads]], [[probes]]: not used by a belt drive".into());
-    }
     if s.pulley.len() < 2 || s.pulley.len() > MAX_PULLEYS {
         errs.push(format!(
             "[[pulley]]: a belt drive needs 2 to {MAX_PULLEYS} pulleys, the scene has {}",
@@ -139,59 +187,55 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
             errs.push("pulley[1].center: must differ from pulley[0].center".into());
         }
     }
-    if let Some(n) = s.outputs.belt_points {
-        if !(2..=10_000).contains(&n) {
-            errs.push(format!("outputs.belt_points = {n}: must lie in [2, 10000]"));
-        }
+    if let Some(n) = s.outputs.belt_points
+        && !(2..=10_000).contains(&n)
+    {
+        errs.push(format!("outputs.belt_points = {n}: must lie in [2, 10000]"));
     }
     if errs.is_empty() { Ok(()) } else { Err(errs) }
 }
 
 /// Parameters of a belt-drive scene ([`check`] passed).
-pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
-    let b = s.belt.as_ref().ok_or("[belt] missing")?;
-    let c = s.contact.as_ref().ok_or("[contact] missing")?;
+pub fn params(s: &BeltDriveScene) -> Result<Vec<ParamDef>, String> {
+    let (b, c) = (&s.belt, &s.contact);
     let real = Value::Real;
-    let element = match s.element.kind {
-        super::file::ElementType::AncfCable2d => 1,
-        super::file::ElementType::AncfShear2d => 2,
-        super::file::ElementType::Corotational3d => {
-            return Err("element.type = \"corotational_3d\" is a 3D beam, not a belt element: use \"ancf_cable_2d\" or \"ancf_shear_2d\"".into());
-        }
+    let element = match s.element.element_type {
+        BeltElementType::AncfCable2d => 1,
+        BeltElementType::AncfShear2d => 2,
     };
     let mut out = vec![
         ParamDef::new(
             BELT_EA,
             real(b.EA),
-            Some("N"),
+            Some(Unit::N),
             "Axial stiffness EA of the belt (datasheet value; independent of EI)",
             Check::Positive,
         ),
         ParamDef::new(
             BELT_EI,
             real(b.EI),
-            Some("N.m2"),
+            Some(Unit::NM2),
             "Bending stiffness EI of the belt",
             Check::Positive,
         ),
         ParamDef::new(
             BELT_MASS,
             real(b.mass_per_length),
-            Some("kg/m"),
+            Some(Unit::KgPerM),
             "Mass per unit (unstretched) length",
             Check::Positive,
         ),
         ParamDef::new(
             BELT_THICKNESS,
             real(b.thickness),
-            Some("m"),
+            Some(Unit::M),
             "Belt thickness: the centre line runs at pulley radius + thickness/2 (contact offset, pitch radius)",
             Check::NonNegative,
         ),
         ParamDef::new(
             BELT_PRETENSION,
             real(b.pretension),
-            Some("N"),
+            Some(Unit::N),
             "Span tension at rest: the belt is mounted with this tension and the static pre-load is solved at initialization",
             Check::Positive,
         ),
@@ -205,14 +249,14 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
         ParamDef::new(
             BELT_DAMPING_AXIAL,
             real(b.damping_axial),
-            Some("N.s"),
+            Some(Unit::NS),
             "Axial material damping d_eps: N = EA eps + d_eps deps/dt (ANCF cable only)",
             Check::NonNegative,
         ),
         ParamDef::new(
             BELT_DAMPING_BENDING,
             real(b.damping_bending),
-            Some("N.m2.s"),
+            Some(Unit::NM2S),
             "Bending material damping d_K: M = EI K + d_K dK/dt (ANCF cable only)",
             Check::NonNegative,
         ),
@@ -243,28 +287,28 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
         ParamDef::new(
             CONTACT_MU,
             real(c.mu),
-            Some("1"),
+            Some(Unit::One),
             "Coulomb friction coefficient between belt and pulleys",
             Check::NonNegative,
         ),
         ParamDef::new(
             CONTACT_STIFFNESS,
             real(c.stiffness),
-            Some("N/m2"),
+            Some(Unit::NPerM2),
             "Normal penalty stiffness per unit belt length; 0 = automatic: EA/(thickness r_min), so that the penetration is the belt strain times the thickness",
             Check::NonNegative,
         ),
         ParamDef::new(
             CONTACT_DAMPING,
             real(c.damping),
-            Some("N.s/m2"),
+            Some(Unit::NSPerM2),
             "Normal (and stick) damping per unit belt length; 0 = automatic: sqrt(k_n m') (half the critical damping of the belt on the penalty spring)",
             Check::NonNegative,
         ),
         ParamDef::new(
             CONTACT_FRICTION_STIFFNESS,
             real(c.friction_stiffness),
-            Some("N/m2"),
+            Some(Unit::NPerM2),
             "Tangential bristle stiffness per unit belt length in stick; 0 = automatic: 1/100 of the normal stiffness",
             Check::NonNegative,
         ),
@@ -282,7 +326,7 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
         out.push(ParamDef::new(
             CENTER_DISTANCE,
             real(d),
-            Some("m"),
+            Some(Unit::M),
             "Distance of the pulley centres (pulley 2 moves along the direction of the scene file)",
             Check::Positive,
         ));
@@ -291,7 +335,7 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
         out.push(ParamDef::new(
             PULLEY_RADIUS[i],
             real(p.radius),
-            Some("m"),
+            Some(Unit::M),
             "Pulley radius (the belt's inner face rests on it)",
             Check::Positive,
         ));
@@ -299,200 +343,174 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
             out.push(ParamDef::new(
                 PULLEY_INERTIA[i],
                 real(p.inertia.unwrap_or(0.0)),
-                Some("kg.m2"),
+                Some(Unit::KgM2),
                 "Moment of inertia of the free pulley about its axis",
                 Check::Positive,
             ));
             out.push(ParamDef::new(
                 PULLEY_DAMPING[i],
                 real(p.damping),
-                Some("N.m.s/rad"),
+                Some(Unit::NMSPerRad),
                 "Viscous bearing damping of the free pulley (torque -d omega)",
                 Check::NonNegative,
             ));
         }
     }
+    out.extend(gravity_params_2d(s.gravity.as_ref()));
     Ok(out)
 }
 
 /// Number of `belt.point[i]` outputs.
-pub fn belt_points(s: &SceneFile) -> usize {
-    s.outputs
-        .belt_points
-        .or(s.belt.as_ref().map(|b| b.n_elements))
-        .unwrap_or(0)
-        .max(0) as usize
+pub fn belt_points(s: &BeltDriveScene) -> usize {
+    s.outputs.belt_points.unwrap_or(s.belt.n_elements).max(0) as usize
 }
 
 /// Inputs and outputs of a belt-drive scene.
-pub fn io(s: &SceneFile) -> Vec<IoVariable> {
-    let mut out = Vec::new();
+pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
+    let mut io = KindIo::default();
+    let pulley_input = |pulley, quantity| Input::Pulley { pulley, quantity };
     for (i, p) in s.pulley.iter().enumerate() {
         let n = i + 1;
         match p.mode {
             PulleyMode::Driven => {
-                out.push(IoVariable::input(
+                io.input(
                     format!("pulley{n}.angle"),
                     0.0,
-                    "rad",
+                    Unit::Rad,
                     "Prescribed angle of the driven pulley (counter-clockwise); inside a step it is extrapolated with pulleyN.omega".into(),
-                    InputKind::Pulley {
-                        pulley: i,
-                        quantity: PulleyInput::Angle,
-                    },
-                ));
-                out.push(IoVariable::input(
+                    pulley_input(i, PulleyInput::Angle),
+                );
+                io.input(
                     format!("pulley{n}.omega"),
                     p.omega,
-                    "rad/s",
+                    Unit::RadPerS,
                     "Prescribed angular velocity of the driven pulley".into(),
-                    InputKind::Pulley {
-                        pulley: i,
-                        quantity: PulleyInput::Omega,
-                    },
-                ));
+                    pulley_input(i, PulleyInput::Omega),
+                );
             }
             PulleyMode::Free => {
-                out.push(IoVariable::input(
+                io.input(
                     format!("pulley{n}.torque_in"),
                     p.torque_in,
-                    "N.m",
+                    Unit::NM,
                     "External torque on the free pulley (motor or load), counter-clockwise".into(),
-                    InputKind::Pulley {
-                        pulley: i,
-                        quantity: PulleyInput::Torque,
-                    },
-                ));
+                    pulley_input(i, PulleyInput::Torque),
+                );
             }
         }
     }
+    let mut belt = |name: String, unit: Unit, what: &str, kind: BeltOutput| {
+        io.output(name, unit, what.into(), Output::Belt(kind));
+    };
     for (i, p) in s.pulley.iter().enumerate() {
         let n = i + 1;
-        let mut add = |suffix: &str, unit: &'static str, what: &str, kind: BeltOutput| {
-            out.push(IoVariable::output(
-                format!("pulley{n}.{suffix}"),
-                unit,
-                what.into(),
-                OutputKind::Belt(kind),
-            ));
+        let mut add = |suffix: &str, unit: Unit, what: &str, kind: BeltOutput| {
+            belt(format!("pulley{n}.{suffix}"), unit, what, kind)
         };
         if p.mode == PulleyMode::Free {
             add(
                 "angle",
-                "rad",
+                Unit::Rad,
                 "Angle of the free pulley",
                 BeltOutput::PulleyAngle(i),
             );
             add(
                 "omega",
-                "rad/s",
+                Unit::RadPerS,
                 "Angular velocity of the free pulley",
                 BeltOutput::PulleyOmega(i),
             );
         }
         add(
             "torque",
-            "N.m",
+            Unit::NM,
             "Torque the belt exerts on the pulley about its centre (counter-clockwise positive)",
             BeltOutput::PulleyTorque(i),
         );
         add(
             "force_x",
-            "N",
+            Unit::N,
             "Force the belt exerts on the pulley, x",
             BeltOutput::PulleyForceX(i),
         );
         add(
             "force_y",
-            "N",
+            Unit::N,
             "Force the belt exerts on the pulley, y",
             BeltOutput::PulleyForceY(i),
         );
     }
-    let belt = |name: &str, unit: &'static str, what: &str, kind: BeltOutput| {
-        IoVariable::output(name.into(), unit, what.into(), OutputKind::Belt(kind))
-    };
-    out.push(belt(
-        "belt.tension_tight",
-        "N",
+    belt(
+        "belt.tension_tight".into(),
+        Unit::N,
         "Axial force in the middle of the tighter span",
         BeltOutput::TensionTight,
-    ));
-    out.push(belt(
-        "belt.tension_slack",
-        "N",
+    );
+    belt(
+        "belt.tension_slack".into(),
+        Unit::N,
         "Axial force in the middle of the slacker span",
         BeltOutput::TensionSlack,
-    ));
-    out.push(belt(
-        "belt.slip",
-        "1",
+    );
+    belt(
+        "belt.slip".into(),
+        Unit::One,
         "Speed loss from pulley 1 to the last pulley by creep and sliding: 1 - omega_last rho_last/(omega_1 rho_1), rho = pitch radius (0 while pulley 1 is at rest)",
         BeltOutput::Slip,
-    ));
-    out.push(belt(
-        "belt.speed",
-        "m/s",
+    );
+    belt(
+        "belt.speed".into(),
+        Unit::MPerS,
         "Mean speed of the belt nodes",
         BeltOutput::Speed,
-    ));
-    let n_points = belt_points(s);
-    for k in 0..n_points {
-        out.push(belt(
-            &format!("belt.point[{}].x", k + 1),
-            "m",
+    );
+    for k in 0..belt_points(s) {
+        belt(
+            format!("belt.point[{}].x", k + 1),
+            Unit::M,
             "Belt centre-line point at an equally spaced material position, x",
             BeltOutput::PointX(k),
-        ));
-        out.push(belt(
-            &format!("belt.point[{}].y", k + 1),
-            "m",
+        );
+        belt(
+            format!("belt.point[{}].y", k + 1),
+            Unit::M,
             "Belt centre-line point at an equally spaced material position, y",
             BeltOutput::PointY(k),
-        ));
+        );
     }
     if s.outputs.energy {
-        for (kind, name, what) in [
-            (
-                EnergyKind::Kinetic,
-                "kinetic",
-                "Kinetic energy of belt and free pulleys",
-            ),
-            (
-                EnergyKind::Strain,
-                "strain",
-                "Strain energy of the belt plus the elastic energy of the contact penalty",
-            ),
-            (
-                EnergyKind::Potential,
-                "potential",
-                "Gravity potential of the belt (-Q_g^T q)",
-            ),
-            (
-                EnergyKind::Total,
-                "total",
-                "Kinetic + strain + potential energy",
-            ),
-        ] {
-            out.push(IoVariable::output(
-                format!("energy.{name}"),
-                "J",
-                what.into(),
-                OutputKind::Energy(kind),
-            ));
-        }
-        out.push(belt(
+        declare_energy_outputs(
+            &mut io,
+            Output::Energy,
+            &[
+                (
+                    EnergyKind::Kinetic,
+                    "Kinetic energy of belt and free pulleys",
+                ),
+                (
+                    EnergyKind::Strain,
+                    "Strain energy of the belt plus the elastic energy of the contact penalty",
+                ),
+                (
+                    EnergyKind::Potential,
+                    "Gravity potential of the belt (-Q_g^T q)",
+                ),
+                (EnergyKind::Total, "Kinetic + strain + potential energy"),
+            ],
+        );
+        let mut belt = |name: &str, what: &str, kind: BeltOutput| {
+            io.output(name.into(), Unit::J, what.into(), Output::Belt(kind));
+        };
+        belt(
             "energy.input_work",
-            "J",
             "Work done on the system by the driven pulleys and the input torques since the start (trapezoidal rule over the internal steps)",
             BeltOutput::InputWork,
-        ));
-        out.push(belt(
+        );
+        belt(
             "energy.dissipated",
-            "J",
             "Energy dissipated since the start by contact damping, friction (including the bristle energy), material and bearing damping",
             BeltOutput::Dissipated,
-        ));
+        );
     }
-    out
+    io
 }

@@ -1,12 +1,47 @@
-//! Scene kind "3D beam" (seed-003 co-rotational elements): required tables, centre line,
-//! supports, loads, probes, parameters, inputs and outputs.
+//! Kind `beam_3d`: checks of the tables (centre line, supports, loads, probes), parameters,
+//! inputs and outputs, and what each input and output means to the model.
 
-use super::file::{ProbeQuantity, SceneFile, SupportKind};
-use super::params::{Check, ParamDef, int_param, names::MESH_N_ELEMENTS};
-use super::validate::{
-    check_fraction, check_identifier, reject_present, reject_repeated, require_tables,
-};
-use crate::variables::{EnergyKind, InputKind, IoVariable, OutputKind, Value};
+use super::Beam3dScene;
+use crate::kinds::KindIo;
+use crate::kinds::energy::{EnergyKind, declare_energy_outputs};
+use crate::scene::params::{Check, ParamDef, gravity_params_3d, int_param, names::MESH_N_ELEMENTS};
+use crate::scene::tables::{ProbeQuantity, SupportKind};
+use crate::scene::validate::{check_fraction, check_identifier, reject_repeated};
+use crate::units::Unit;
+use crate::variables::Value;
+
+/// What an input of a 3D beam drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Input {
+    /// Component `axis` (0 = x, 1 = y, 2 = z) of the force of point load `load` [N].
+    Load {
+        /// Index into the scene's loads.
+        load: usize,
+        /// 0 = x, 1 = y, 2 = z.
+        axis: usize,
+    },
+    /// Component `axis` of the moment of point load `load` [N m].
+    Moment {
+        /// Index into the scene's loads.
+        load: usize,
+        /// 0 = x, 1 = y, 2 = z.
+        axis: usize,
+    },
+}
+
+/// What an output of a 3D beam reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// A probe quantity.
+    Probe {
+        /// Index into the scene's probes.
+        probe: usize,
+        /// Position, velocity, rotation or direction component.
+        quantity: ProbeQuantity,
+    },
+    /// An energy.
+    Energy(EnergyKind),
+}
 
 /// Parameter names of the 3D beam (public interface: never rename silently).
 pub mod names {
@@ -42,38 +77,27 @@ fn finite3(v: &[f64; 3]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
+/// Euclidean norm, scaled so that components up to f64::MAX do not overflow.
 fn norm3(v: &[f64; 3]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+    let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * v.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
 }
 
 /// Problems of a 3D-beam scene: required tables, centre line, supports, loads, probes.
-pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
+pub fn check(s: &Beam3dScene) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
-    require_tables(
-        &[
-            ("mesh", s.mesh.is_some()),
-            ("section", s.section.is_some()),
-            ("centreline", s.centreline.is_some()),
-        ],
-        "element type \"corotational_3d\"",
-        &mut errs,
-    );
-    reject_present(
-        &[
-            ("[geometry]", s.geometry.is_some()),
-            ("[material]", s.material.is_some()),
-        ],
-        "not used by element type \"corotational_3d\" (give [section] and [centreline])",
-        &mut errs,
-    );
-    if let Some(c) = &s.centreline {
+    {
+        let c = &s.centreline;
         if !finite3(&c.start) {
             errs.push("centreline.start: must be finite numbers".into());
         }
-        if let Some(z) = &c.section_z {
-            if !finite3(z) || norm3(z) == 0.0 {
-                errs.push("centreline.section_z: must be a finite non-zero vector".into());
-            }
+        if let Some(z) = &c.section_z
+            && (!finite3(z) || norm3(z) == 0.0)
+        {
+            errs.push("centreline.section_z: must be a finite non-zero vector".into());
         }
         if c.segments.is_empty() {
             errs.push("centreline.segments: give at least one piece".into());
@@ -163,82 +187,79 @@ pub fn check(s: &SceneFile) -> Result<(), Vec<String>> {
 }
 
 /// Parameters of a 3D-beam scene (the tables exist: [`check`] passed).
-pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
-    let (sec, mesh) = (
-        s.section.as_ref().ok_or("[section] missing")?,
-        s.mesh.as_ref().ok_or("[mesh] missing")?,
-    );
+pub fn params(s: &Beam3dScene) -> Result<Vec<ParamDef>, String> {
+    let (sec, mesh) = (&s.section, &s.mesh);
     let real = |v: f64| Value::Real(v);
     let p =
         |name, v, unit, what: &str, check| ParamDef::new(name, real(v), Some(unit), what, check);
-    Ok(vec![
+    let mut defs = vec![
         p(
             SECTION_EA,
             sec.EA,
-            "N",
+            Unit::N,
             "Axial stiffness EA",
             Check::Positive,
         ),
         p(
             SECTION_GAY,
             sec.GAy,
-            "N",
+            Unit::N,
             "Shear stiffness k G A for deflection along local y (Timoshenko theory)",
             Check::Positive,
         ),
         p(
             SECTION_GAZ,
             sec.GAz,
-            "N",
+            Unit::N,
             "Shear stiffness k G A for deflection along local z (Timoshenko theory)",
             Check::Positive,
         ),
         p(
             SECTION_GJ,
             sec.GJ,
-            "N.m2",
+            Unit::NM2,
             "Torsional stiffness GJ",
             Check::Positive,
         ),
         p(
             SECTION_EIY,
             sec.EIy,
-            "N.m2",
+            Unit::NM2,
             "Bending stiffness about local y (deflection along local z)",
             Check::Positive,
         ),
         p(
             SECTION_EIZ,
             sec.EIz,
-            "N.m2",
+            Unit::NM2,
             "Bending stiffness about local z (deflection along local y)",
             Check::Positive,
         ),
         p(
             SECTION_RHOA,
             sec.rhoA,
-            "kg/m",
+            Unit::KgPerM,
             "Mass per length",
             Check::Positive,
         ),
         p(
             SECTION_RHOJX,
             sec.rhoJx,
-            "kg.m",
+            Unit::KgM,
             "Polar rotary inertia per length (rho J; at most rhoIy + rhoIz)",
             Check::Positive,
         ),
         p(
             SECTION_RHOIY,
             sec.rhoIy,
-            "kg.m",
+            Unit::KgM,
             "Rotary inertia per length about local y (rho I_y)",
             Check::NonNegative,
         ),
         p(
             SECTION_RHOIZ,
             sec.rhoIz,
-            "kg.m",
+            Unit::KgM,
             "Rotary inertia per length about local z (rho I_z)",
             Check::NonNegative,
         ),
@@ -263,13 +284,15 @@ pub fn params(s: &SceneFile) -> Result<Vec<ParamDef>, String> {
             "Inertia: 1 = three lumped masses per element (ends and mid-point), 2 = consistent",
             Check::IntRange(1, 2),
         ),
-    ])
+    ];
+    defs.extend(gravity_params_3d(s.gravity.as_ref()));
+    Ok(defs)
 }
 
 /// Inputs (force and moment components of the loads) and outputs (probe quantities,
 /// energies) of a 3D-beam scene.
-pub fn io(s: &SceneFile) -> Vec<IoVariable> {
-    let mut out = Vec::new();
+pub fn io(s: &Beam3dScene) -> KindIo<Input, Output> {
+    let mut io = KindIo::default();
     for (i, l) in s.loads.iter().enumerate() {
         let how = if l.follower {
             "follower: global components in the reference configuration, rotating with the node"
@@ -279,19 +302,19 @@ pub fn io(s: &SceneFile) -> Vec<IoVariable> {
         let starts = [l.fx, l.fy, l.fz, l.mx, l.my, l.mz];
         for (k, comp) in ["fx", "fy", "fz", "mx", "my", "mz"].into_iter().enumerate() {
             let axis = ["x", "y", "z"][k % 3];
-            let (unit, what, kind) = if k < 3 {
-                ("N", "Force", InputKind::Load { load: i, axis: k })
+            let (unit, what, role) = if k < 3 {
+                (Unit::N, "Force", Input::Load { load: i, axis: k })
             } else {
                 (
-                    "N.m",
+                    Unit::NM,
                     "Moment",
-                    InputKind::Moment {
+                    Input::Moment {
                         load: i,
                         axis: k - 3,
                     },
                 )
             };
-            out.push(IoVariable::input(
+            io.input(
                 format!("{}.{comp}", l.name),
                 starts[k],
                 unit,
@@ -299,66 +322,58 @@ pub fn io(s: &SceneFile) -> Vec<IoVariable> {
                     "{what} about/along {axis} at {} of the centre-line length ({how})",
                     l.at
                 ),
-                kind,
-            ));
+                role,
+            );
         }
     }
     for (i, p) in s.probes.iter().enumerate() {
         for q in &p.outputs {
             let (suffix, unit, what) = match q {
-                ProbeQuantity::X => ("x", "m", "Position x"),
-                ProbeQuantity::Y => ("y", "m", "Position y"),
-                ProbeQuantity::Z => ("z", "m", "Position z"),
-                ProbeQuantity::Vx => ("vx", "m/s", "Velocity x"),
-                ProbeQuantity::Vy => ("vy", "m/s", "Velocity y"),
-                ProbeQuantity::Vz => ("vz", "m/s", "Velocity z"),
+                ProbeQuantity::X => ("x", Unit::M, "Position x"),
+                ProbeQuantity::Y => ("y", Unit::M, "Position y"),
+                ProbeQuantity::Z => ("z", Unit::M, "Position z"),
+                ProbeQuantity::Vx => ("vx", Unit::MPerS, "Velocity x"),
+                ProbeQuantity::Vy => ("vy", Unit::MPerS, "Velocity y"),
+                ProbeQuantity::Vz => ("vz", Unit::MPerS, "Velocity z"),
                 ProbeQuantity::Rx => (
                     "rx",
-                    "rad",
+                    Unit::Rad,
                     "Rotation vector from the reference orientation (principal value, |r| <= pi), x",
                 ),
-                ProbeQuantity::Ry => ("ry", "rad", "Rotation vector (principal value), y"),
-                ProbeQuantity::Rz => ("rz", "rad", "Rotation vector (principal value), z"),
-                ProbeQuantity::Tx => ("tx", "1", "Beam axis direction cosine with x"),
-                ProbeQuantity::Ty => ("ty", "1", "Beam axis direction cosine with y"),
-                ProbeQuantity::Tz => ("tz", "1", "Beam axis direction cosine with z"),
-                ProbeQuantity::Wx => ("wx", "rad/s", "Angular velocity, global x"),
-                ProbeQuantity::Wy => ("wy", "rad/s", "Angular velocity, global y"),
-                ProbeQuantity::Wz => ("wz", "rad/s", "Angular velocity, global z"),
+                ProbeQuantity::Ry => ("ry", Unit::Rad, "Rotation vector (principal value), y"),
+                ProbeQuantity::Rz => ("rz", Unit::Rad, "Rotation vector (principal value), z"),
+                ProbeQuantity::Tx => ("tx", Unit::One, "Beam axis direction cosine with x"),
+                ProbeQuantity::Ty => ("ty", Unit::One, "Beam axis direction cosine with y"),
+                ProbeQuantity::Tz => ("tz", Unit::One, "Beam axis direction cosine with z"),
+                ProbeQuantity::Wx => ("wx", Unit::RadPerS, "Angular velocity, global x"),
+                ProbeQuantity::Wy => ("wy", Unit::RadPerS, "Angular velocity, global y"),
+                ProbeQuantity::Wz => ("wz", Unit::RadPerS, "Angular velocity, global z"),
             };
-            out.push(IoVariable::output(
+            io.output(
                 format!("{}.{suffix}", p.name),
                 unit,
                 format!("{what} of the node at {} of the centre-line length", p.at),
-                OutputKind::Probe {
+                Output::Probe {
                     probe: i,
                     quantity: *q,
                 },
-            ));
+            );
         }
     }
     if s.outputs.energy {
-        for (kind, name, what) in [
-            (EnergyKind::Kinetic, "kinetic", "Kinetic energy"),
-            (
-                EnergyKind::Potential,
-                "potential",
-                "Gravity potential energy relative to the origin",
-            ),
-            (EnergyKind::Strain, "strain", "Strain energy"),
-            (
-                EnergyKind::Total,
-                "total",
-                "Kinetic + potential + strain energy",
-            ),
-        ] {
-            out.push(IoVariable::output(
-                format!("energy.{name}"),
-                "J",
-                what.into(),
-                OutputKind::Energy(kind),
-            ));
-        }
+        declare_energy_outputs(
+            &mut io,
+            Output::Energy,
+            &[
+                (EnergyKind::Kinetic, "Kinetic energy"),
+                (
+                    EnergyKind::Potential,
+                    "Gravity potential energy relative to the origin",
+                ),
+                (EnergyKind::Strain, "Strain energy"),
+                (EnergyKind::Total, "Kinetic + potential + strain energy"),
+            ],
+        );
     }
-    out
+    io
 }

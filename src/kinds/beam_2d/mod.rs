@@ -1,0 +1,205 @@
+//! Kind `beam_2d`: a straight planar beam of seed-000 shear-deformable ANCF elements
+//! (Kerkkänen, Sopanen & Mikkola 2003) with supports, point loads, motion ports and probes.
+//! Scene tables here, declarations in [`scene`], the model in [`crate::model::beam2d`].
+
+pub mod scene;
+
+use super::{BodyKind, KindScene, legacy_element_type, legacy_has_belt};
+use crate::model::Model;
+use crate::model::beam2d::Beam2d;
+use crate::scene::ParamValues;
+use crate::scene::params::ParamDef;
+use crate::scene::tables::{
+    EnergyOutputs, ExperimentSection, FmuSection, Gravity2d, InitialSection, MeshSection,
+    MotionSpec, ProbeSpec, SolverSection, SupportSpec,
+};
+use crate::variables::IoVariable;
+use serde::Deserialize;
+use std::sync::Arc;
+
+/// The kind (registry entry).
+pub struct Beam2dKind;
+
+impl BodyKind for Beam2dKind {
+    fn name(&self) -> &'static str {
+        "beam_2d"
+    }
+
+    fn summary(&self) -> &'static str {
+        "straight planar beam of seed-000 shear-deformable ANCF elements"
+    }
+
+    fn claims_legacy(&self, tables: &toml::Table) -> bool {
+        legacy_element_type(tables) == Some("ancf_shear_2d") && !legacy_has_belt(tables)
+    }
+
+    fn parse(&self, text: &str) -> Result<Arc<dyn KindScene>, Vec<String>> {
+        let s: Beam2dScene = crate::scene::parse_strict(text, self.name())?;
+        scene::check(&s)?;
+        Ok(Arc::new(s))
+    }
+}
+
+impl KindScene for Beam2dScene {
+    fn kind(&self) -> &'static dyn BodyKind {
+        &Beam2dKind
+    }
+
+    fn params(&self) -> Result<Vec<ParamDef>, String> {
+        scene::params(self)
+    }
+
+    fn io(&self) -> Vec<IoVariable> {
+        scene::io(self).into_vars()
+    }
+
+    fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String> {
+        Ok(Box::new(Beam2d::build(self, params)?))
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// A `beam_2d` scene file.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Beam2dScene {
+    /// `kind = "beam_2d"` (optional: the element type says it).
+    #[serde(default)]
+    pub kind: Option<String>,
+    /// FMU identity.
+    pub fmu: FmuSection,
+    /// Default experiment.
+    #[serde(default)]
+    pub experiment: ExperimentSection,
+    /// Element options.
+    #[serde(default)]
+    pub element: Beam2dElement,
+    /// Mesh.
+    pub mesh: MeshSection,
+    /// Geometry of the straight beam.
+    pub geometry: GeometrySection,
+    /// Material.
+    pub material: MaterialSection,
+    /// Gravity (omit for none: then no gravity parameters are exposed).
+    #[serde(default)]
+    pub gravity: Option<Gravity2d>,
+    /// Solver settings.
+    #[serde(default)]
+    pub solver: SolverSection,
+    /// Supports.
+    #[serde(default)]
+    pub supports: Vec<SupportSpec>,
+    /// Point loads: force inputs.
+    #[serde(default)]
+    pub loads: Vec<Load2d>,
+    /// Probes: position/velocity outputs.
+    #[serde(default)]
+    pub probes: Vec<ProbeSpec>,
+    /// Motion ports: prescribed position/velocity inputs, reaction-force outputs.
+    #[serde(default)]
+    pub motions: Vec<MotionSpec>,
+    /// Energy outputs.
+    #[serde(default)]
+    pub outputs: EnergyOutputs,
+    /// Initial rigid rotation (omit: the body starts at rest).
+    #[serde(default)]
+    pub initial: Option<InitialSection>,
+}
+
+/// The element of a planar beam (one so far).
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
+pub enum Beam2dElementType {
+    /// Seed 000: linear shear-deformable 2D ANCF beam (4 coordinates per node).
+    #[default]
+    #[serde(rename = "ancf_shear_2d")]
+    AncfShear2d,
+}
+
+/// `[element]` of a planar beam.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Beam2dElement {
+    /// Element family.
+    #[serde(rename = "type", default)]
+    pub element_type: Beam2dElementType,
+    /// 1 = original 1x1 shear integration, 2 = the 1x2 fix (default).
+    #[serde(default = "default_shear_rule")]
+    pub shear_rule: i32,
+    /// 1 = Eq. 12 (default), 2 = Lamé form of Eqs. 10–11.
+    #[serde(default = "default_strain_energy")]
+    pub strain_energy: i32,
+    /// Shear correction factor k_s of Eq. 12.
+    #[serde(default = "default_shear_coefficient")]
+    pub shear_coefficient: f64,
+}
+
+impl Default for Beam2dElement {
+    fn default() -> Self {
+        Self {
+            element_type: Beam2dElementType::AncfShear2d,
+            shear_rule: default_shear_rule(),
+            strain_energy: default_strain_energy(),
+            shear_coefficient: default_shear_coefficient(),
+        }
+    }
+}
+
+fn default_shear_rule() -> i32 {
+    2
+}
+fn default_strain_energy() -> i32 {
+    1
+}
+fn default_shear_coefficient() -> f64 {
+    5.0 / 6.0
+}
+
+/// `[geometry]`: a straight rectangular beam.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeometrySection {
+    /// [m]
+    pub length: f64,
+    /// Out-of-plane width [m].
+    pub width: f64,
+    /// Height [m].
+    pub height: f64,
+    /// Position of the first end [m] (not a parameter).
+    #[serde(default)]
+    pub origin: [f64; 2],
+    /// Direction of the axis, counter-clockwise from +x [deg] (not a parameter).
+    #[serde(default)]
+    pub angle_deg: f64,
+}
+
+/// `[material]`
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct MaterialSection {
+    /// Young's modulus [Pa].
+    pub E: f64,
+    /// Poisson's ratio [1].
+    pub nu: f64,
+    /// Density [kg/m3].
+    pub rho: f64,
+}
+
+/// `[[loads]]`: a fixed-direction force input at a point of the centre line.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Load2d {
+    /// Variable prefix (`<name>.fx`, `<name>.fy`).
+    pub name: String,
+    /// Location as a fraction of the length, in [0, 1].
+    pub at: f64,
+    /// Start value of the x force [N].
+    #[serde(default)]
+    pub fx: f64,
+    /// Start value of the y force [N].
+    #[serde(default)]
+    pub fy: f64,
+}

@@ -1,0 +1,221 @@
+//! Kind `belt_drive`: a closed belt of ANCF cable (or seed-000) elements around pulleys that
+//! are driven (motion in, belt torque out) or free (inertia inside the FMU, torque in), with
+//! Coulomb friction contact. Scene tables here, declarations in [`scene`], the model in
+//! [`crate::model::belt_drive`].
+
+pub mod scene;
+
+use super::{BodyKind, KindScene, legacy_has_belt};
+use crate::model::Model;
+use crate::model::belt_drive::BeltDrive;
+use crate::scene::ParamValues;
+use crate::scene::params::ParamDef;
+use crate::scene::tables::{Choice, ExperimentSection, FmuSection, Gravity2d, SolverSection};
+use crate::variables::IoVariable;
+use serde::Deserialize;
+use std::sync::Arc;
+
+/// The kind (registry entry).
+pub struct BeltDriveKind;
+
+impl BodyKind for BeltDriveKind {
+    fn name(&self) -> &'static str {
+        "belt_drive"
+    }
+
+    fn summary(&self) -> &'static str {
+        "closed planar belt over driven and free pulleys with friction contact"
+    }
+
+    fn claims_legacy(&self, tables: &toml::Table) -> bool {
+        legacy_has_belt(tables)
+    }
+
+    fn parse(&self, text: &str) -> Result<Arc<dyn KindScene>, Vec<String>> {
+        let s: BeltDriveScene = crate::scene::parse_strict(text, self.name())?;
+        scene::check(&s)?;
+        Ok(Arc::new(s))
+    }
+}
+
+impl KindScene for BeltDriveScene {
+    fn kind(&self) -> &'static dyn BodyKind {
+        &BeltDriveKind
+    }
+
+    fn params(&self) -> Result<Vec<ParamDef>, String> {
+        scene::params(self)
+    }
+
+    fn io(&self) -> Vec<IoVariable> {
+        scene::io(self).into_vars()
+    }
+
+    fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String> {
+        Ok(Box::new(BeltDrive::build(self, params)?))
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// A `belt_drive` scene file.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeltDriveScene {
+    /// `kind = "belt_drive"` (optional: `[belt]` and `[[pulley]]` say it).
+    #[serde(default)]
+    pub kind: Option<String>,
+    /// FMU identity.
+    pub fmu: FmuSection,
+    /// Default experiment.
+    #[serde(default)]
+    pub experiment: ExperimentSection,
+    /// The belt element.
+    #[serde(default)]
+    pub element: BeltElement,
+    /// The belt.
+    pub belt: BeltSection,
+    /// Belt–pulley contact.
+    pub contact: ContactSection,
+    /// `[[pulley]]`: the pulleys in the order the belt wraps them (counter-clockwise); the
+    /// first is `pulley1`.
+    #[serde(default)]
+    pub pulley: Vec<PulleySpec>,
+    /// Gravity (omit for none).
+    #[serde(default)]
+    pub gravity: Option<Gravity2d>,
+    /// Solver settings.
+    #[serde(default)]
+    pub solver: SolverSection,
+    /// Further outputs.
+    #[serde(default)]
+    pub outputs: BeltOutputs,
+}
+
+/// Belt element families.
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
+pub enum BeltElementType {
+    /// Gradient-deficient ANCF cable (r, r' per node, cubic Hermite).
+    #[default]
+    #[serde(rename = "ancf_cable_2d")]
+    AncfCable2d,
+    /// Seed 000 element (equivalent rectangle h = sqrt(12 EI/EA)).
+    #[serde(rename = "ancf_shear_2d")]
+    AncfShear2d,
+}
+
+/// `[element]` of a belt drive.
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeltElement {
+    /// Element family (the parameter `belt.element`).
+    #[serde(rename = "type", default)]
+    pub element_type: BeltElementType,
+}
+
+/// `[outputs]` of a belt drive.
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeltOutputs {
+    /// Expose `energy.kinetic`, `energy.potential`, `energy.strain`, `energy.total`,
+    /// `energy.input_work`, `energy.dissipated` [J].
+    #[serde(default)]
+    pub energy: bool,
+    /// Number of equally spaced belt points exposed as `belt.point[i].x/y` (default:
+    /// `belt.n_elements`, i.e. the nodes).
+    #[serde(default)]
+    pub belt_points: Option<i64>,
+}
+
+/// `[belt]`: the belt as datasheets give it.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct BeltSection {
+    /// Axial stiffness [N].
+    pub EA: f64,
+    /// Bending stiffness [N m2].
+    pub EI: f64,
+    /// Mass per unit length [kg/m].
+    pub mass_per_length: f64,
+    /// Thickness [m]: the centre line runs at pulley radius + thickness/2.
+    pub thickness: f64,
+    /// Span tension at rest [N].
+    pub pretension: f64,
+    /// Number of belt elements.
+    pub n_elements: i64,
+    /// Axial material damping [N s].
+    #[serde(default)]
+    pub damping_axial: f64,
+    /// Bending material damping [N m2 s].
+    #[serde(default)]
+    pub damping_bending: f64,
+    /// Cable integration rule: `"full"` (1), `"reduced"` (2) or `"mixed"` (3).
+    #[serde(default = "default_belt_integration")]
+    pub integration: Choice,
+}
+
+fn default_belt_integration() -> Choice {
+    Choice::Name("full".into())
+}
+
+/// `[contact]`: belt–pulley contact; stiffness and damping 0 mean "derived from the belt".
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    /// Coulomb friction coefficient [1].
+    pub mu: f64,
+    /// Normal penalty stiffness per unit belt length [N/m2] (0: automatic).
+    #[serde(default)]
+    pub stiffness: f64,
+    /// Normal damping per unit belt length [N s/m2] (0: automatic).
+    #[serde(default)]
+    pub damping: f64,
+    /// Tangential (bristle) stiffness per unit belt length [N/m2] (0: automatic).
+    #[serde(default)]
+    pub friction_stiffness: f64,
+    /// Contact points per belt element.
+    #[serde(default = "default_contact_points")]
+    pub points_per_element: i64,
+}
+
+fn default_contact_points() -> i64 {
+    4
+}
+
+/// How a pulley moves.
+#[derive(Clone, Copy, Debug, Deserialize, serde::Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PulleyMode {
+    /// Angle and angular velocity are inputs; the belt torque is an output.
+    Driven,
+    /// Rigid body with inertia inside the FMU; an input torque drives it.
+    Free,
+}
+
+/// `[[pulley]]`
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PulleySpec {
+    /// Centre [m] (for two pulleys the distance is the parameter `pulleys.center_distance`,
+    /// along the direction given here).
+    pub center: [f64; 2],
+    /// Radius [m] (the belt's inner face rests on it).
+    pub radius: f64,
+    /// Driven or free.
+    pub mode: PulleyMode,
+    /// Free pulleys: moment of inertia [kg m2].
+    #[serde(default)]
+    pub inertia: Option<f64>,
+    /// Free pulleys: viscous bearing damping [N m s/rad].
+    #[serde(default)]
+    pub damping: f64,
+    /// Start value of the input `pulleyN.omega` (driven) [rad/s].
+    #[serde(default)]
+    pub omega: f64,
+    /// Start value of the input `pulleyN.torque_in` (free) [N m].
+    #[serde(default)]
+    pub torque_in: f64,
+}

@@ -1,0 +1,169 @@
+//! Body kinds. A kind (planar beam, 3D beam, belt drive, ...) is one module here plus one
+//! line in [`REGISTRY`]: its scene tables (strict: every key is used or rejected), parameters,
+//! inputs and outputs with what they mean to its model, and the model. The scene reader, the
+//! variable table, the XML writer, the FMI layer and the instance only see the traits below;
+//! nothing outside a kind's module matches on the kind.
+//!
+//! Recipe for a new kind: `DEVELOPERS.md`, section "Adding a body kind".
+
+pub mod beam_2d;
+pub mod beam_3d;
+pub mod belt_drive;
+pub mod energy;
+
+use crate::model::Model;
+use crate::scene::ParamDef;
+use crate::scene::ParamValues;
+use crate::units::Unit;
+use crate::variables::{Causality, IoVariable};
+use std::any::Any;
+use std::fmt::Debug;
+use std::sync::Arc;
+
+/// Every body kind flexfmu knows, in the order `flexfmu` lists them. A new kind adds one line.
+pub static REGISTRY: &[&dyn BodyKind] = &[
+    &beam_2d::Beam2dKind,
+    &beam_3d::Beam3dKind,
+    &belt_drive::BeltDriveKind,
+];
+
+/// The kind named `name` (the scene key `kind = "..."`).
+pub fn by_name(name: &str) -> Option<&'static dyn BodyKind> {
+    REGISTRY.iter().copied().find(|k| k.name() == name)
+}
+
+/// The names of all kinds, for messages.
+pub fn names() -> String {
+    REGISTRY
+        .iter()
+        .map(|k| format!("\"{}\"", k.name()))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// A body kind: reads its scenes.
+pub trait BodyKind: Sync {
+    /// The kind's name: the scene key `kind = "..."`, its module and its README entry.
+    fn name(&self) -> &'static str;
+
+    /// One line on what the kind models.
+    fn summary(&self) -> &'static str;
+
+    /// For scene files without a `kind` key (written before the key existed): whether the
+    /// tables are this kind's by the old rule (element type, belt tables). At most one kind
+    /// answers yes for any file.
+    fn claims_legacy(&self, tables: &toml::Table) -> bool;
+
+    /// Parses a scene file of this kind strictly (every key known to the kind, with the right
+    /// type) and checks it; errors name the key, its table and the kind.
+    fn parse(&self, text: &str) -> Result<Arc<dyn KindScene>, Vec<String>>;
+}
+
+/// A parsed and checked scene of one kind: declares its variables and builds its model.
+pub trait KindScene: Debug + Send + Sync + Any {
+    /// The kind.
+    fn kind(&self) -> &'static dyn BodyKind;
+
+    /// The kind's parameters, with the scene's values as defaults (the `solver.*` parameters
+    /// are added by the scene reader).
+    fn params(&self) -> Result<Vec<ParamDef>, String>;
+
+    /// The inputs and outputs, in the order of [`KindIo`].
+    fn io(&self) -> Vec<IoVariable>;
+
+    /// The model with validated parameter values. Errors name the parameter or scene key.
+    fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String>;
+
+    /// For tests and tools that need the kind's own tables.
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// The inputs and outputs of a scene as a kind declares them: the variables and, for each
+/// input and output in the same order, what it means to the kind's model (`I`, `O`: the
+/// kind's own role types). The model is built from the same tables by the same function, so
+/// an input's index in the variable table is its index here.
+#[derive(Clone, Debug)]
+pub struct KindIo<I, O> {
+    vars: Vec<IoVariable>,
+    /// What each input drives, by input index.
+    pub inputs: Vec<I>,
+    /// What each output reports, by output index.
+    pub outputs: Vec<O>,
+}
+
+impl<I, O> Default for KindIo<I, O> {
+    fn default() -> Self {
+        Self {
+            vars: Vec::new(),
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+        }
+    }
+}
+
+impl<I, O> KindIo<I, O> {
+    /// Declares a continuous Real input.
+    pub fn input(
+        &mut self,
+        name: String,
+        start: f64,
+        unit: Unit,
+        description: String,
+        role: I,
+    ) -> &mut IoVariable {
+        self.inputs.push(role);
+        self.push(name, Causality::Input, Some(start), unit, description)
+    }
+
+    /// Declares a continuous Real output (add direct feedthrough with
+    /// [`IoVariable::depending_on`]).
+    pub fn output(
+        &mut self,
+        name: String,
+        unit: Unit,
+        description: String,
+        role: O,
+    ) -> &mut IoVariable {
+        self.outputs.push(role);
+        self.push(name, Causality::Output, None, unit, description)
+    }
+
+    fn push(
+        &mut self,
+        name: String,
+        causality: Causality,
+        start: Option<f64>,
+        unit: Unit,
+        description: String,
+    ) -> &mut IoVariable {
+        self.vars.push(IoVariable {
+            name,
+            causality,
+            start,
+            unit,
+            description,
+            depends_on: vec![],
+        });
+        self.vars.last_mut().expect("just pushed")
+    }
+
+    /// The variables, inputs and outputs interleaved in declaration order.
+    pub fn vars(&self) -> &[IoVariable] {
+        &self.vars
+    }
+
+    /// The variables, consuming the declaration.
+    pub fn into_vars(self) -> Vec<IoVariable> {
+        self.vars
+    }
+}
+
+/// Reads the string value of `[element] type`, if any (legacy kind detection).
+pub fn legacy_element_type(tables: &toml::Table) -> Option<&str> {
+    tables.get("element")?.as_table()?.get("type")?.as_str()
+}
+
+/// Whether the legacy tables describe a belt drive (`[belt]` or `[[pulley]]` present).
+pub fn legacy_has_belt(tables: &toml::Table) -> bool {
+    tables.contains_key("belt") || tables.contains_key("pulley")
+}
