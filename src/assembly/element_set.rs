@@ -159,15 +159,23 @@ impl<E: Element<N>, const N: usize> ElementSet<E, N> {
     /// Maps every rotation slot of every element to its node in `frames` (by the full index
     /// of the slot's first coordinate). Panics if a rotation slot has no node frame.
     pub fn with_frames(mut self, frames: &NodeFrames) -> Self {
+        // node of every full coordinate index that starts a rotation vector
+        let n = (0..frames.len())
+            .map(|k| frames.theta_index(k) + 1)
+            .max()
+            .unwrap_or(0);
+        let mut node_at = vec![usize::MAX; n];
+        for k in 0..frames.len() {
+            node_at[frames.theta_index(k)] = k;
+        }
         self.frame_nodes.clear();
         for e in 0..self.conn.len() {
             let layout = self.element(e).layout();
             for (slot, at) in layout.offsets() {
                 if slot == Slot::Rotation {
                     let i = self.conn.dofs(e)[at];
-                    let k = frames
-                        .node_of_coordinate(i)
-                        .expect("a node frame for every rotation slot");
+                    let k = node_at.get(i).copied().unwrap_or(usize::MAX);
+                    assert!(k != usize::MAX, "a node frame for every rotation slot");
                     self.frame_nodes.push(k);
                 }
             }
