@@ -1,12 +1,12 @@
 //! Kind `beam_2d`: a straight planar beam of seed-000 shear-deformable ANCF elements
 //! (Kerkkänen, Sopanen & Mikkola 2003) with supports, point loads, motion ports and probes.
-//! Scene tables here, declarations in [`scene`], the model in [`crate::model::beam2d`].
+//! Scene tables here, declarations in [`scene`], the model in [`model`].
 
+pub mod model;
 pub mod scene;
 
 use super::{BodyKind, KindScene, legacy_element_type, legacy_has_belt};
 use crate::model::Model;
-use crate::model::beam2d::Beam2d;
 use crate::scene::ParamValues;
 use crate::scene::params::ParamDef;
 use crate::scene::tables::{
@@ -14,6 +14,7 @@ use crate::scene::tables::{
     MotionSpec, ProbeSpec, SolverSection, SupportSpec,
 };
 use crate::variables::IoVariable;
+use model::Beam2d;
 use serde::Deserialize;
 use std::sync::Arc;
 

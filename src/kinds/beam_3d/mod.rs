@@ -1,13 +1,13 @@
 //! Kind `beam_3d`: a 3D beam of seed-003 co-rotational elements (Wang, Qi & Xu 2020) along a
 //! centre line of straight and circular pieces, with supports, point loads (forces and
 //! moments) and probes. Scene tables here, declarations in [`scene`], the model in
-//! [`crate::model::corot3d`].
+//! [`model`].
 
+pub mod model;
 pub mod scene;
 
 use super::{BodyKind, KindScene, legacy_element_type, legacy_has_belt};
 use crate::model::Model;
-use crate::model::corot3d::Beam3d;
 use crate::scene::ParamValues;
 use crate::scene::params::ParamDef;
 use crate::scene::tables::{
@@ -15,6 +15,7 @@ use crate::scene::tables::{
     SupportSpec,
 };
 use crate::variables::IoVariable;
+use model::Beam3d;
 use serde::Deserialize;
 use std::sync::Arc;
 

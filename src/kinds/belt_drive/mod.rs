@@ -1,17 +1,18 @@
 //! Kind `belt_drive`: a closed belt of ANCF cable (or seed-000) elements around pulleys that
 //! are driven (motion in, belt torque out) or free (inertia inside the FMU, torque in), with
 //! Coulomb friction contact. Scene tables here, declarations in [`scene`], the model in
-//! [`crate::model::belt_drive`].
+//! [`model`].
 
+pub mod model;
 pub mod scene;
 
 use super::{BodyKind, KindScene, legacy_has_belt};
 use crate::model::Model;
-use crate::model::belt_drive::BeltDrive;
 use crate::scene::ParamValues;
 use crate::scene::params::ParamDef;
 use crate::scene::tables::{Choice, ExperimentSection, FmuSection, Gravity2d, SolverSection};
 use crate::variables::IoVariable;
+use model::BeltDrive;
 use serde::Deserialize;
 use std::sync::Arc;
 
