@@ -6,6 +6,73 @@
 //!
 //! Recipe for a new kind: `DEVELOPERS.md`, section "Adding a body kind".
 
+/// Declares a kind's registry entry `$kind` (implementing [`BodyKind`]) and implements
+/// [`KindScene`] for its tables `$tables`, from the kind module's `scene::{check, params, io}`
+/// and `$model::build(&tables, &params)`.
+macro_rules! body_kind {
+    (
+        $(#[$doc:meta])*
+        $kind:ident {
+            tables: $tables:ty,
+            model: $model:ty,
+            name: $name:literal,
+            summary: $summary:literal,
+            legacy: |$t:ident| $legacy:expr $(,)?
+        }
+    ) => {
+        $(#[$doc])*
+        pub struct $kind;
+
+        impl $crate::kinds::BodyKind for $kind {
+            fn name(&self) -> &'static str {
+                $name
+            }
+
+            fn summary(&self) -> &'static str {
+                $summary
+            }
+
+            fn claims_legacy(&self, $t: &toml::Table) -> bool {
+                $legacy
+            }
+
+            fn parse(
+                &self,
+                text: &str,
+            ) -> Result<std::sync::Arc<dyn $crate::kinds::KindScene>, Vec<String>> {
+                let s: $tables = $crate::scene::parse_strict(text, $name)?;
+                scene::check(&s)?;
+                Ok(std::sync::Arc::new(s))
+            }
+        }
+
+        impl $crate::kinds::KindScene for $tables {
+            fn kind(&self) -> &'static dyn $crate::kinds::BodyKind {
+                &$kind
+            }
+
+            fn params(&self) -> Result<Vec<$crate::scene::ParamDef>, String> {
+                scene::params(self)
+            }
+
+            fn io(&self) -> Vec<$crate::variables::IoVariable> {
+                scene::io(self).into_vars()
+            }
+
+            fn build_model(
+                &self,
+                params: &$crate::scene::ParamValues,
+            ) -> Result<Box<dyn $crate::model::Model>, String> {
+                Ok(Box::new(<$model>::build(self, params)?))
+            }
+
+            fn as_any(&self) -> &dyn std::any::Any {
+                self
+            }
+        }
+    };
+}
+
 pub mod beam_2d;
 pub mod beam_3d;
 pub mod belt_drive;

@@ -1,8 +1,7 @@
-//! Discretised models built from scenes, and the interface the solvers see.
+//! The interface between models and solvers ([`Model`], [`MechanicalSystem`]) and the pieces
+//! models share (input signals, output rates). Each kind's model lives in its module under
+//! [`crate::kinds`].
 
-pub mod beam2d;
-pub mod belt_drive;
-pub mod corot3d;
 mod factory;
 pub mod inputs;
 pub mod rates;

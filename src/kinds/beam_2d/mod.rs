@@ -1,64 +1,26 @@
 //! Kind `beam_2d`: a straight planar beam of seed-000 shear-deformable ANCF elements
 //! (Kerkkänen, Sopanen & Mikkola 2003) with supports, point loads, motion ports and probes.
-//! Scene tables here, declarations in [`scene`], the model in [`crate::model::beam2d`].
+//! Scene tables here, declarations in [`scene`], the model in [`model`].
 
+pub mod model;
 pub mod scene;
 
-use super::{BodyKind, KindScene, legacy_element_type, legacy_has_belt};
-use crate::model::Model;
-use crate::model::beam2d::Beam2d;
-use crate::scene::ParamValues;
-use crate::scene::params::ParamDef;
+use super::{legacy_element_type, legacy_has_belt};
 use crate::scene::tables::{
     EnergyOutputs, ExperimentSection, FmuSection, Gravity2d, InitialSection, MeshSection,
     MotionSpec, ProbeSpec, SolverSection, SupportSpec,
 };
-use crate::variables::IoVariable;
+use model::Beam2d;
 use serde::Deserialize;
-use std::sync::Arc;
 
-/// The kind (registry entry).
-pub struct Beam2dKind;
-
-impl BodyKind for Beam2dKind {
-    fn name(&self) -> &'static str {
-        "beam_2d"
-    }
-
-    fn summary(&self) -> &'static str {
-        "straight planar beam of seed-000 shear-deformable ANCF elements"
-    }
-
-    fn claims_legacy(&self, tables: &toml::Table) -> bool {
-        legacy_element_type(tables) == Some("ancf_shear_2d") && !legacy_has_belt(tables)
-    }
-
-    fn parse(&self, text: &str) -> Result<Arc<dyn KindScene>, Vec<String>> {
-        let s: Beam2dScene = crate::scene::parse_strict(text, self.name())?;
-        scene::check(&s)?;
-        Ok(Arc::new(s))
-    }
-}
-
-impl KindScene for Beam2dScene {
-    fn kind(&self) -> &'static dyn BodyKind {
-        &Beam2dKind
-    }
-
-    fn params(&self) -> Result<Vec<ParamDef>, String> {
-        scene::params(self)
-    }
-
-    fn io(&self) -> Vec<IoVariable> {
-        scene::io(self).into_vars()
-    }
-
-    fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String> {
-        Ok(Box::new(Beam2d::build(self, params)?))
-    }
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
+body_kind! {
+    /// The kind (registry entry).
+    Beam2dKind {
+        tables: Beam2dScene,
+        model: Beam2d,
+        name: "beam_2d",
+        summary: "straight planar beam of seed-000 shear-deformable ANCF elements",
+        legacy: |t| legacy_element_type(t) == Some("ancf_shear_2d") && !legacy_has_belt(t),
     }
 }
 

@@ -1,65 +1,27 @@
 //! Kind `beam_3d`: a 3D beam of seed-003 co-rotational elements (Wang, Qi & Xu 2020) along a
 //! centre line of straight and circular pieces, with supports, point loads (forces and
 //! moments) and probes. Scene tables here, declarations in [`scene`], the model in
-//! [`crate::model::corot3d`].
+//! [`model`].
 
+pub mod model;
 pub mod scene;
 
-use super::{BodyKind, KindScene, legacy_element_type, legacy_has_belt};
-use crate::model::Model;
-use crate::model::corot3d::Beam3d;
-use crate::scene::ParamValues;
-use crate::scene::params::ParamDef;
+use super::{legacy_element_type, legacy_has_belt};
 use crate::scene::tables::{
     EnergyOutputs, ExperimentSection, FmuSection, Gravity3d, MeshSection, ProbeSpec, SolverSection,
     SupportSpec,
 };
-use crate::variables::IoVariable;
+use model::Beam3d;
 use serde::Deserialize;
-use std::sync::Arc;
 
-/// The kind (registry entry).
-pub struct Beam3dKind;
-
-impl BodyKind for Beam3dKind {
-    fn name(&self) -> &'static str {
-        "beam_3d"
-    }
-
-    fn summary(&self) -> &'static str {
-        "3D beam of seed-003 co-rotational elements along straight and circular pieces"
-    }
-
-    fn claims_legacy(&self, tables: &toml::Table) -> bool {
-        legacy_element_type(tables) == Some("corotational_3d") && !legacy_has_belt(tables)
-    }
-
-    fn parse(&self, text: &str) -> Result<Arc<dyn KindScene>, Vec<String>> {
-        let s: Beam3dScene = crate::scene::parse_strict(text, self.name())?;
-        scene::check(&s)?;
-        Ok(Arc::new(s))
-    }
-}
-
-impl KindScene for Beam3dScene {
-    fn kind(&self) -> &'static dyn BodyKind {
-        &Beam3dKind
-    }
-
-    fn params(&self) -> Result<Vec<ParamDef>, String> {
-        scene::params(self)
-    }
-
-    fn io(&self) -> Vec<IoVariable> {
-        scene::io(self).into_vars()
-    }
-
-    fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String> {
-        Ok(Box::new(Beam3d::build(self, params)?))
-    }
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
+body_kind! {
+    /// The kind (registry entry).
+    Beam3dKind {
+        tables: Beam3dScene,
+        model: Beam3d,
+        name: "beam_3d",
+        summary: "3D beam of seed-003 co-rotational elements along straight and circular pieces",
+        legacy: |t| legacy_element_type(t) == Some("corotational_3d") && !legacy_has_belt(t),
     }
 }
 

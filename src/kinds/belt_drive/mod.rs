@@ -1,62 +1,24 @@
 //! Kind `belt_drive`: a closed belt of ANCF cable (or seed-000) elements around pulleys that
 //! are driven (motion in, belt torque out) or free (inertia inside the FMU, torque in), with
 //! Coulomb friction contact. Scene tables here, declarations in [`scene`], the model in
-//! [`crate::model::belt_drive`].
+//! [`model`].
 
+pub mod model;
 pub mod scene;
 
-use super::{BodyKind, KindScene, legacy_has_belt};
-use crate::model::Model;
-use crate::model::belt_drive::BeltDrive;
-use crate::scene::ParamValues;
-use crate::scene::params::ParamDef;
+use super::legacy_has_belt;
 use crate::scene::tables::{Choice, ExperimentSection, FmuSection, Gravity2d, SolverSection};
-use crate::variables::IoVariable;
+use model::BeltDrive;
 use serde::Deserialize;
-use std::sync::Arc;
 
-/// The kind (registry entry).
-pub struct BeltDriveKind;
-
-impl BodyKind for BeltDriveKind {
-    fn name(&self) -> &'static str {
-        "belt_drive"
-    }
-
-    fn summary(&self) -> &'static str {
-        "closed planar belt over driven and free pulleys with friction contact"
-    }
-
-    fn claims_legacy(&self, tables: &toml::Table) -> bool {
-        legacy_has_belt(tables)
-    }
-
-    fn parse(&self, text: &str) -> Result<Arc<dyn KindScene>, Vec<String>> {
-        let s: BeltDriveScene = crate::scene::parse_strict(text, self.name())?;
-        scene::check(&s)?;
-        Ok(Arc::new(s))
-    }
-}
-
-impl KindScene for BeltDriveScene {
-    fn kind(&self) -> &'static dyn BodyKind {
-        &BeltDriveKind
-    }
-
-    fn params(&self) -> Result<Vec<ParamDef>, String> {
-        scene::params(self)
-    }
-
-    fn io(&self) -> Vec<IoVariable> {
-        scene::io(self).into_vars()
-    }
-
-    fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String> {
-        Ok(Box::new(BeltDrive::build(self, params)?))
-    }
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
+body_kind! {
+    /// The kind (registry entry).
+    BeltDriveKind {
+        tables: BeltDriveScene,
+        model: BeltDrive,
+        name: "belt_drive",
+        summary: "closed planar belt over driven and free pulleys with friction contact",
+        legacy: |t| legacy_has_belt(t),
     }
 }
 

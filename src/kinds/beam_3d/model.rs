@@ -20,9 +20,6 @@
 //! invertible `T(θ)ᵀ` is unnecessary, so it is not done). The iteration matrix is exact:
 //! element tangents with respect to body spins times `T(θ)` on the rotation columns.
 
-use super::inputs::InputSignal;
-use super::rates;
-use super::system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::assembly::{Assembly, DofMap, ElementSet, Eval, check_finite};
 use crate::elements::corotational3d::{
     BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Theory, reference_frame,
@@ -37,6 +34,9 @@ use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
 use crate::meshers::centreline::{Piece, mesh_centreline};
 use crate::meshers::stations::Stations;
+use crate::model::inputs::InputSignal;
+use crate::model::rates;
+use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::{ParamValues, names::*};
 use crate::scene::tables::{ProbeQuantity, SupportKind};
 use crate::snapshot::{StateReader, StateWriter};

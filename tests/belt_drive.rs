@@ -11,13 +11,13 @@
 
 use flexfmu::elements::ancf_cable2d::{CableRule, CableSection};
 use flexfmu::integrators::{GeneralizedAlpha, Integrator};
+use flexfmu::kinds::belt_drive::model::{
+    BeltDrive, BeltElementKind, BeltPath, BeltSpec, PulleyDef, PulleyKind, default_contact,
+};
 use flexfmu::kinds::belt_drive::scene::{BeltOutput, Output, PulleyInput};
 use flexfmu::kinds::energy::EnergyKind;
 use flexfmu::linalg::SolverKind;
 use flexfmu::model::Model;
-use flexfmu::model::belt_drive::{
-    BeltDrive, BeltElementKind, BeltPath, BeltSpec, PulleyDef, PulleyKind, default_contact,
-};
 use flexfmu::solver::newton::{NewtonPolicy, NewtonSettings};
 use flexfmu::solver::simulation::{Simulation, SolverConfig};
 use nalgebra::Vector2;

@@ -11,16 +11,16 @@
 //!    consistent inertia over element counts at Δt = 0.05 s (error against 128 elements,
 //!    consistent, same Δt), and over internal steps at 20 elements (error against Δt/32).
 //!
-//! Run: `cargo run --release --example bench_corot [out-dir]` (default `build/bench`); writes
-//! `corot_cost.csv` and `corot_tradeoff.csv`; `scripts/bench_corot.py` plots them.
+//! Run: `cargo run --release --example bench_beam_3d [out-dir]` (default `build/bench`); writes
+//! `corot_cost.csv` and `corot_tradeoff.csv`; `scripts/bench_beam_3d.py` plots them.
 
 use flexfmu::elements::corotational3d::{
     BeamSection, Corot3d, MassModel, Mat12, Nodes, Rates, Theory, Vec12,
 };
 use flexfmu::elements::rotation::exp_so3;
 use flexfmu::kinds::beam_3d::Beam3dScene;
+use flexfmu::kinds::beam_3d::model::Beam3d;
 use flexfmu::linalg::SolverKind;
-use flexfmu::model::corot3d::Beam3d;
 use flexfmu::model::{JacobianCoeffs, MechanicalSystem, Model, build_model};
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::solver::newton::Workspace;

@@ -1,7 +1,6 @@
 //! A straight planar beam meshed with seed-000 elements: supports, point loads, gravity,
 //! probes and energies.
 
-use super::system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::assembly::{Assembly, DofMap, ElementSet, Eval, check_finite};
 use crate::elements::ancf_shear2d::{
     ELEMENT_COORDS, ElemMat, ElemVec, NODE_COORDS, Section, Shear2dElement, ShearRule,
@@ -15,6 +14,7 @@ use crate::kinds::beam_2d::scene::{Input, Output, io};
 use crate::kinds::energy::EnergyKind;
 use crate::linalg::{CscPattern, LinearSolver, SolverKind};
 use crate::model::inputs::{InputSignal, prescribed};
+use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::{ParamValues, names::*};
 use crate::scene::tables::{Axis, ProbeQuantity, SupportKind};
 use crate::snapshot::{StateReader, StateWriter};

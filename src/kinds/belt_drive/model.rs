@@ -12,9 +12,6 @@
 //! `M q̈ + Q_int(q, q̇) − Σ Q_contact(q, q̇, θ, ω) − Q_g = 0` for the belt and
 //! `J θ̈ + c θ̇ − τ_in − Σ τ_contact = 0` for each free pulley.
 
-use super::inputs::{InputSignal, prescribed};
-use super::rates;
-use super::system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::circle_friction::{self, polar_angle};
 use crate::contact::{Circle, ContactLaw, PointHistory, PointState};
@@ -29,6 +26,9 @@ use crate::kinds::belt_drive::{BeltDriveScene, PulleyMode};
 use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
 use crate::meshers::belt_loop::{Loop, PitchCircle};
+use crate::model::inputs::{InputSignal, prescribed};
+use crate::model::rates;
+use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::{
     ParamValues,
     names::{GRAVITY_X, GRAVITY_Y},

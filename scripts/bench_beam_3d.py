@@ -1,10 +1,10 @@
-"""Benchmark of the seed-003 co-rotational 3D beam: runs the Rust example `bench_corot` (release,
+"""Benchmark of the seed-003 co-rotational 3D beam: runs the Rust example `bench_beam_3d` (release,
 library level, no FMI overhead), which prints the tables and writes CSV, then plots
   - error against wall time on the Simo & Vu-Quoc right-angle cantilever, one curve per inertia
     model over element counts (2..64) and one over internal steps (20 elements),
   - cost per element per Newton iteration against the element count.
 
-usage: python scripts/bench_corot.py [out-dir]   (default build/bench; writes corot_bench.png)
+usage: python scripts/bench_beam_3d.py [out-dir]   (default build/bench; writes corot_bench.png)
 """
 import csv
 import pathlib
@@ -26,7 +26,7 @@ def read(path):
 
 def main(out):
     out.mkdir(parents=True, exist_ok=True)
-    subprocess.run(["cargo", "run", "--release", "--quiet", "--example", "bench_corot", "--", str(out)],
+    subprocess.run(["cargo", "run", "--release", "--quiet", "--example", "bench_beam_3d", "--", str(out)],
                    cwd=ROOT, check=True)
     cost = read(out / "corot_cost.csv")
     trade = read(out / "corot_tradeoff.csv")
