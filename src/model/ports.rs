@@ -397,3 +397,131 @@ impl Ports {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! A port on a two-spring chain: port coordinate 0 —k1— free mass m (coordinate 1) —k2—
+    //! ground, where the condensation has the closed form
+    //! `K_int = k1 − k1² / (k1 + k2 + 4 m / h²)`.
+    use super::*;
+    use crate::linalg::CscPattern;
+    use crate::model::{JacobianCoeffs, ModelError};
+
+    const K1: f64 = 3.0e4;
+    const K2: f64 = 5.0e4;
+    const M: f64 = 2.0;
+    const H: f64 = 1e-2;
+
+    struct Chain {
+        q: [f64; 2],
+        pattern: CscPattern,
+        scales: Vec<f64>,
+    }
+
+    impl MechanicalSystem for Chain {
+        fn n_free(&self) -> usize {
+            1
+        }
+        fn pattern(&self) -> &CscPattern {
+            &self.pattern
+        }
+        fn scales(&self) -> &[f64] {
+            &self.scales
+        }
+        fn residual(
+            &mut self,
+            _: f64,
+            _: &[f64],
+            _: &[f64],
+            _: &[f64],
+            _: f64,
+            _: &mut [f64],
+            _: Option<(JacobianCoeffs, &mut [f64])>,
+        ) -> Result<(), ModelError> {
+            unimplemented!("the ports do not call the residual")
+        }
+        fn midpoint_residual(
+            &mut self,
+            _: f64,
+            _: f64,
+            _: &[f64],
+            _: &[f64],
+            _: &[f64],
+            _: &[f64],
+            _: &mut [f64],
+            _: Option<(JacobianCoeffs, &mut [f64])>,
+        ) -> Result<(), ModelError> {
+            unimplemented!("the ports do not call the midpoint residual")
+        }
+    }
+
+    impl PortHost for Chain {
+        fn free_index(&self, full: usize) -> Option<usize> {
+            (full == 1).then_some(0)
+        }
+        fn port_residual(&self, coords: &[usize], out: &mut [f64]) {
+            assert_eq!(coords, [0]);
+            out[0] = K1 * (self.q[0] - self.q[1]);
+        }
+        fn port_rows(&self, coords: &[usize], _c_m: f64, add: &mut dyn FnMut(usize, usize, f64)) {
+            assert_eq!(coords, [0]);
+            add(0, 0, K1);
+            add(0, 1, -K1);
+        }
+        fn free_matrix(&mut self, c_m: f64, vals: &mut [f64]) {
+            vals[0] = K1 + K2 + c_m * M;
+        }
+    }
+
+    fn chain() -> (Chain, Ports) {
+        let host = Chain {
+            q: [0.1, 0.04],
+            pattern: CscPattern::from_entries(1, [(0, 0)]),
+            scales: vec![1.0],
+        };
+        let ports = Ports::new(&[vec![0]], &[0.1, 0.04], H);
+        (host, ports)
+    }
+
+    #[test]
+    fn condensation_matches_the_closed_form() {
+        let (mut host, mut ports) = chain();
+        ports.update_interface(&mut host);
+        let want = K1 - K1 * K1 / (K1 + K2 + 4.0 * M / (H * H));
+        let got = -ports.force_input_derivative(&mut host, 0, 0, 0, 0);
+        assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
+    }
+
+    #[test]
+    fn force_is_the_reaction_extrapolated_with_the_interface_matrix() {
+        let (mut host, mut ports) = chain();
+        let r0 = K1 * (0.1 - 0.04);
+        assert_eq!(ports.force(&host, 0, 0), -r0);
+        ports.signal_mut(0, 0).set(0.1 + 1e-3, 0.0);
+        ports.update_interface(&mut host);
+        let k = -ports.force_input_derivative(&mut host, 0, 0, 0, 0);
+        let f = ports.force(&host, 0, 0);
+        assert!((f + r0 + k * 1e-3).abs() <= 1e-12 * r0, "{f}");
+        // a velocity input set at the committed time does not move the port yet (τ = 0)
+        assert_eq!(ports.force_input_derivative(&mut host, 0, 0, 0, 1), 0.0);
+    }
+
+    #[test]
+    fn apply_ramps_statics_and_holds_the_committed_state() {
+        let (_, mut ports) = chain();
+        ports.signal_mut(0, 0).set(0.3, 0.0);
+        ports.signal_mut(0, 1).set(2.0, 0.0);
+        let (mut q, mut v, mut a) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+        ports.apply(0.5, 1.0, Some(&mut q), Some(&mut v), Some(&mut a));
+        assert_eq!((q[0], v[0], a[0]), (0.3 + 0.5 * 2.0, 2.0, 0.0));
+        assert_eq!(q[1], 0.0, "free coordinates untouched");
+        ports.apply(0.0, 0.25, Some(&mut q), None, None);
+        assert!((q[0] - (0.1 + 0.25 * (0.3 - 0.1))).abs() < 1e-15);
+        ports.hold(true);
+        ports.apply(0.0, 1.0, Some(&mut q), Some(&mut v), None);
+        assert_eq!((q[0], v[0]), (0.1, 0.0), "held at the committed state");
+        ports.commit(0.0, &[0.7, 0.0], &[0.2, 0.0]);
+        ports.apply(0.0, 1.0, Some(&mut q), Some(&mut v), None);
+        assert_eq!((q[0], v[0]), (0.7, 0.2));
+    }
+}
