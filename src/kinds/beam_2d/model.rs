@@ -13,6 +13,7 @@ use crate::kinds::beam_2d::Beam2dScene;
 use crate::kinds::beam_2d::scene::{Input, Output, io};
 use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
+use crate::meshers::stations::{ElementPoint, Stations};
 use crate::model::inputs::InputSignal;
 use crate::model::ports::{PortHost, Ports};
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
@@ -30,12 +31,10 @@ struct PointMap {
 }
 
 impl PointMap {
-    fn new(at: f64, n_el: usize) -> Self {
-        let s = at * n_el as f64;
-        let e = (s.floor() as usize).min(n_el - 1);
+    fn new(p: ElementPoint) -> Self {
         Self {
-            node: e,
-            xi: s - e as f64,
+            node: p.element,
+            xi: p.xi,
         }
     }
 
@@ -126,17 +125,11 @@ impl Beam2d {
             q0[k * 4..k * 4 + 4].copy_from_slice(&[r.x, r.y, normal.x, normal.y]);
         }
 
+        let stations = Stations::uniform(n_el, length);
         let mut constrained = vec![false; n_full];
         for (i, s) in scene.supports.iter().enumerate() {
-            let pos = s.at * n_el as f64;
-            let node = pos.round();
-            if (pos - node).abs() > 1e-9 * n_el as f64 {
-                return Err(format!(
-                    "supports[{i}].at = {}: a support must fall on a node; with {MESH_N_ELEMENTS} = {n_el} the nodes are at multiples of 1/{n_el}",
-                    s.at
-                ));
-            }
-            let base = node as usize * NODE_COORDS;
+            let node = stations.node_at(&format!("supports[{i}]"), s.at, MESH_N_ELEMENTS)?;
+            let base = node * NODE_COORDS;
             let fixed: &[usize] = match (s.kind, s.fixed) {
                 (SupportKind::Clamp, _) => &[0, 1, 2, 3],
                 (SupportKind::Pin, _) => &[0, 1],
@@ -149,15 +142,8 @@ impl Beam2d {
         }
         let mut port_coords = Vec::with_capacity(scene.motions.len());
         for (i, m) in scene.motions.iter().enumerate() {
-            let pos = m.at * n_el as f64;
-            let node = pos.round();
-            if (pos - node).abs() > 1e-9 * n_el as f64 {
-                return Err(format!(
-                    "motions[{i}].at = {}: a motion port must fall on a node; with {MESH_N_ELEMENTS} = {n_el} the nodes are at multiples of 1/{n_el}",
-                    m.at
-                ));
-            }
-            let base = node as usize * NODE_COORDS;
+            let node = stations.node_at(&format!("motions[{i}]"), m.at, MESH_N_ELEMENTS)?;
+            let base = node * NODE_COORDS;
             if constrained[base] || constrained[base + 1] {
                 return Err(format!(
                     "motions[{i}].at = {}: the node is already supported (a [[supports]] entry at the same place)",
@@ -223,7 +209,7 @@ impl Beam2d {
         let load_maps: Vec<PointMap> = scene
             .loads
             .iter()
-            .map(|l| PointMap::new(l.at, n_el))
+            .map(|l| PointMap::new(stations.point_at(l.at)))
             .collect();
         let loads = scene
             .loads
@@ -235,7 +221,7 @@ impl Beam2d {
         let probes = scene
             .probes
             .iter()
-            .map(|p| PointMap::new(p.at, n_el))
+            .map(|p| PointMap::new(stations.point_at(p.at)))
             .collect();
         Ok(Self {
             length,
