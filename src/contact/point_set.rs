@@ -321,3 +321,127 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assembly::{Assembly, DofMap};
+    use crate::contact::{Circle, PointHistory};
+    use crate::elements::ancf_cable2d::shape_functions;
+    use crate::elements::finite_difference as fd;
+    use nalgebra::{DMatrix, Vector2};
+
+    /// One cable element (coordinates 0..8) of length 4 mm lying across the top of a circle
+    /// of radius 0.1 m (angle: coordinate 8), pressed in by 30 µm at its middle, three points,
+    /// moving and with a friction history that makes the points stick or slide.
+    fn case() -> (
+        ContactPointSet<Circle, 2, 4, 9>,
+        Assembly,
+        Vec<f64>,
+        Vec<f64>,
+    ) {
+        let law = ContactLaw {
+            k_n: 2e7,
+            d_n: 3e3,
+            k_t: 1e7,
+            d_t: 1e3,
+            mu: 0.3,
+            smoothing: 5e-6,
+            blend: 0.05,
+        };
+        let circle = Circle {
+            center: Vector2::new(0.0, 0.0),
+            radius: 0.1,
+        };
+        let dofs: Vec<usize> = (0..9).collect();
+        let asm = Assembly::new(DofMap::new(&[false; 9]), &[(9, &dofs)], &[]);
+        let blocks = Connectivity::new(vec![std::array::from_fn(|i| i)], &asm);
+        let mut set = ContactPointSet::new(law, vec![circle], blocks, [0, 2]);
+        let l = 4e-3;
+        let n_cp = 3;
+        let weights = (0..n_cp)
+            .map(|i| shape_functions(l, (i as f64 + 0.5) / n_cp as f64 * l))
+            .collect();
+        set.set_points(weights, l / n_cp as f64);
+        let y = 0.1 - 3e-5;
+        let q = vec![-0.002, y, 1.0, 0.01, 0.002, y + 1e-6, 1.0, -0.01, 0.3];
+        let v = vec![0.4, -0.01, 0.0, 0.2, 0.5, 0.02, 0.1, 0.0, 2.0];
+        // histories: the points were 20 µm further back along the circle, pulley turned less
+        for (i, h) in set.hist.iter_mut().enumerate() {
+            *h = PointHistory {
+                phi: std::f64::consts::FRAC_PI_2 + 0.01 + 2e-4 * (i as f64 - 1.0),
+                theta: 0.2999,
+                z: 1e-7,
+                f: 0.5,
+            };
+        }
+        (set, asm, q, v)
+    }
+
+    fn dense(asm: &Assembly, vals: &[f64]) -> DMatrix<f64> {
+        DMatrix::from_fn(9, 9, |i, j| {
+            asm.pattern.position(i, j).map_or(0.0, |p| vals[p])
+        })
+    }
+
+    /// The scatter of forces and of the iteration block through the point weights, against
+    /// central differences of the scattered residual, in coordinates and in rates.
+    #[test]
+    fn scattered_jacobian_matches_finite_differences() {
+        let (mut set, asm, q, v) = case();
+        let mut r = vec![0.0; 9];
+        set.add_residual(&q, &v, &mut r, None);
+        assert!(r[8].abs() > 0.0 && r[1] < 0.0, "points in contact: {r:?}");
+        for (ks, kd) in [(1.0, 0.0), (0.0, 1.0)] {
+            let coeffs = JacobianCoeffs {
+                mass: 0.0,
+                damping: kd,
+                stiffness: ks,
+            };
+            let mut vals = vec![0.0; asm.pattern.nnz()];
+            let mut f = vec![0.0; 9];
+            set.add_residual(&q, &v, &mut f, Some((coeffs, &mut vals)));
+            let x0 = if ks > 0.0 { &q } else { &v };
+            let fdm = fd::jacobian(
+                x0,
+                9,
+                |j| if j == 8 || ks == 0.0 { 1e-7 } else { 1e-10 },
+                |x, out| {
+                    out.fill(0.0);
+                    let (qq, vv) = if ks > 0.0 { (x, &v[..]) } else { (&q[..], x) };
+                    set.add_residual(qq, vv, out, None);
+                },
+            );
+            let an = dense(&asm, &vals);
+            fd::assert_close(&format!("ks {ks} kd {kd}"), &an, &fdm, 1e-5, 1e-6);
+        }
+    }
+
+    /// The committed loads on the obstacle are what the residual applied: torque on the
+    /// pulley = −(its residual entry), and the committed histories relax out of contact.
+    #[test]
+    fn commit_books_the_loads_of_the_residual() {
+        let (mut set, _, q, v) = case();
+        let mut r = vec![0.0; 9];
+        set.add_residual(&q, &v, &mut r, None);
+        let book = set.commit(&q, &v, false);
+        let load = set.loads()[0];
+        assert!(load.generalized[0].abs() > 1e-6);
+        assert!((load.generalized[0] + r[8]).abs() <= 1e-12 * r[8].abs());
+        assert!(
+            load.force.y < 0.0,
+            "the belt presses the pulley down: {:?}",
+            load.force
+        );
+        assert!(book.normal_energy > 0.0);
+        // far away: no loads, histories relaxed
+        let mut far = q.clone();
+        for k in [1, 5] {
+            far[k] += 0.01;
+        }
+        let book = set.commit(&far, &v, false);
+        assert_eq!(book, ContactBook::default());
+        assert!(set.hist.iter().all(|h| h.z == 0.0 && h.f == 0.0));
+        assert_eq!(set.loads()[0], ObstacleLoad::default());
+    }
+}

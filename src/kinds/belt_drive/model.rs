@@ -7,8 +7,11 @@
 //! every belt coordinate through the contact (the iteration matrix is a ring with a border,
 //! factorized by the bordered banded LU of [`crate::linalg::bordered`]).
 //!
-//! Contact: [`crate::contact::circle_friction`] at `contact.points_per_element` equally spaced
-//! material points per element. Equations of motion:
+//! Contact: a [`ContactPointSet`] of `contact.points_per_element` equally spaced material
+//! points per element against the pulleys' pitch circles ([`Circle`] obstacles, kernel
+//! [`crate::contact::circle_friction`]). This file assembles the drive from its pieces: the
+//! pulleys (`pulleys.rs`), the static pre-load (`preload.rs`) and the energy book
+//! (`energy.rs`). Equations of motion:
 //! `M q̈ + Q_int(q, q̇) − Σ Q_contact(q, q̇, θ, ω) − Q_g = 0` for the belt and
 //! `J θ̈ + c θ̇ − τ_in − Σ τ_contact = 0` for each free pulley.
 
