@@ -4,6 +4,7 @@
 //! Table and key names mirror the FMU variable names: `[material] E` becomes the parameter
 //! `material.E`, `[[loads]] name = "load"` the inputs `load.fx`, `load.fy`, and so on.
 
+use crate::units::Unit;
 use serde::Deserialize;
 
 /// `[initial]`: a rigid initial motion of the whole body.
@@ -242,6 +243,31 @@ pub enum ProbeQuantity {
 }
 
 impl ProbeQuantity {
+    /// Output name suffix, unit and description of the quantity.
+    pub fn declaration(self) -> (&'static str, Unit, &'static str) {
+        match self {
+            Self::X => ("x", Unit::M, "Position x"),
+            Self::Y => ("y", Unit::M, "Position y"),
+            Self::Z => ("z", Unit::M, "Position z"),
+            Self::Vx => ("vx", Unit::MPerS, "Velocity x"),
+            Self::Vy => ("vy", Unit::MPerS, "Velocity y"),
+            Self::Vz => ("vz", Unit::MPerS, "Velocity z"),
+            Self::Rx => (
+                "rx",
+                Unit::Rad,
+                "Rotation vector from the reference orientation (principal value, |r| <= pi), x",
+            ),
+            Self::Ry => ("ry", Unit::Rad, "Rotation vector (principal value), y"),
+            Self::Rz => ("rz", Unit::Rad, "Rotation vector (principal value), z"),
+            Self::Tx => ("tx", Unit::One, "Beam axis direction cosine with x"),
+            Self::Ty => ("ty", Unit::One, "Beam axis direction cosine with y"),
+            Self::Tz => ("tz", Unit::One, "Beam axis direction cosine with z"),
+            Self::Wx => ("wx", Unit::RadPerS, "Angular velocity, global x"),
+            Self::Wy => ("wy", Unit::RadPerS, "Angular velocity, global y"),
+            Self::Wz => ("wz", Unit::RadPerS, "Angular velocity, global z"),
+        }
+    }
+
     /// Whether the quantity exists in planar scenes.
     pub fn is_planar(&self) -> bool {
         matches!(self, Self::X | Self::Y | Self::Vx | Self::Vy)

@@ -648,6 +648,18 @@ impl Simulation {
                                 h_limit = h * factor.unwrap_or(0.5);
                                 continue;
                             }
+                            if e > 1.0 {
+                                // Accepting steps of h_min with the error above the
+                                // tolerance would report fmi2OK for what was not delivered
+                                // (and take ~1e9 steps per communication step).
+                                return Err(fail(
+                                    self.state.t,
+                                    format!(
+                                        "the local error {raw:.3e} exceeds solver.tolerance = {:.3e} even at the smallest internal step {h:.3e} s (t = {:.9} s)",
+                                        self.cfg.tolerance, self.state.t
+                                    ),
+                                ));
+                            }
                         }
                         if (raw > SAFETY_ERROR || raw.is_nan()) && h > h_min {
                             self.stats.rejected += 1;

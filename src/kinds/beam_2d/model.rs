@@ -12,8 +12,9 @@ use crate::kinds::KindIo;
 use crate::kinds::beam_2d::Beam2dScene;
 use crate::kinds::beam_2d::scene::{Input, Output, io};
 use crate::kinds::energy::EnergyKind;
-use crate::linalg::{CscPattern, LinearSolver, SolverKind};
-use crate::model::inputs::{InputSignal, prescribed};
+use crate::linalg::CscPattern;
+use crate::model::inputs::InputSignal;
+use crate::model::ports::{PortHost, Ports};
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::{ParamValues, names::*};
 use crate::scene::tables::{Axis, ProbeQuantity, SupportKind};
@@ -61,10 +62,9 @@ pub struct Beam2d {
     q0: Vec<f64>,
     load_maps: Vec<PointMap>,
     loads: Vec<[InputSignal; 2]>,
-    /// Node of every motion port.
-    motion_nodes: Vec<usize>,
-    /// Inputs of every motion port: x, y [m], vx, vy [m/s].
-    motions: Vec<[InputSignal; 4]>,
+    /// Motion ports (the two position coordinates of a node each): inputs x, y [m],
+    /// vx, vy [m/s], their interface Jacobian and reactions.
+    ports: Ports,
     probes: Vec<PointMap>,
     scales: Vec<f64>,
     /// What each input and output means, by index.
@@ -80,37 +80,6 @@ pub struct Beam2d {
     vw: Vec<f64>,
     aw: Vec<f64>,
     fw: Vec<f64>,
-    /// Interface Jacobian of the motion ports, see [`Beam2d::interface_jacobian`].
-    interface: Interface,
-    /// Keep motion ports at their committed positions (see `Model::hold_prescribed_motion`).
-    hold_ports: bool,
-}
-
-/// Interface Jacobian of the motion ports (after Sicklinger, Belsky, Engelmann, Elmqvist,
-/// Olsson, Wüchner, Bletzinger: "Interface Jacobian-based Co-Simulation", IJNME 98, 2014): the
-/// change of the port reactions after one Newmark step of size `h` when the prescribed port
-/// trajectory is shifted by a constant displacement (the port's acceleration is given by the
-/// inputs, so it does not change), with the interior responding:
-/// `K_int = K_cc − S_cf S_ff⁻¹ K_fc`, `S = K_T + (4/h²) M`.
-#[derive(Debug, Default)]
-struct Interface {
-    /// Step size of the condensation [s] (the last communication step).
-    h: f64,
-    /// `K_int` (2P × 2P, row-major over the port coordinates) at the committed state.
-    matrix: Option<Vec<f64>>,
-    solver: Option<LinearSolver>,
-    vals: Vec<f64>,
-}
-
-impl Clone for Interface {
-    fn clone(&self) -> Self {
-        Self {
-            h: self.h,
-            matrix: self.matrix.clone(),
-            solver: None,
-            vals: Vec::new(),
-        }
-    }
 }
 
 impl Beam2d {
@@ -178,7 +147,7 @@ impl Beam2d {
                 constrained[base + c] = true;
             }
         }
-        let mut motion_nodes = Vec::with_capacity(scene.motions.len());
+        let mut port_coords = Vec::with_capacity(scene.motions.len());
         for (i, m) in scene.motions.iter().enumerate() {
             let pos = m.at * n_el as f64;
             let node = pos.round();
@@ -197,7 +166,7 @@ impl Beam2d {
             }
             constrained[base] = true;
             constrained[base + 1] = true;
-            motion_nodes.push(node as usize);
+            port_coords.push(vec![base, base + 1]);
         }
         let dofs = DofMap::new(&constrained);
         if dofs.n_free() == 0 {
@@ -262,17 +231,7 @@ impl Beam2d {
             .map(|l| [InputSignal::constant(l.fx), InputSignal::constant(l.fy)])
             .collect();
         // Motion ports start where the node is in the reference configuration, at rest.
-        let motions = motion_nodes
-            .iter()
-            .map(|&k| {
-                [
-                    InputSignal::constant(q0[k * NODE_COORDS]),
-                    InputSignal::constant(q0[k * NODE_COORDS + 1]),
-                    InputSignal::constant(0.0),
-                    InputSignal::constant(0.0),
-                ]
-            })
-            .collect();
+        let ports = Ports::new(&port_coords, &q0, p.real(SOLVER_MAX_STEP));
         let probes = scene
             .probes
             .iter()
@@ -292,16 +251,10 @@ impl Beam2d {
             vw: vec![0.0; n_full],
             aw: vec![0.0; n_full],
             fw: vec![0.0; n_full],
-            interface: Interface {
-                h: p.real(SOLVER_MAX_STEP),
-                ..Interface::default()
-            },
-            hold_ports: false,
             q0,
             load_maps,
             loads,
-            motion_nodes,
-            motions,
+            ports,
             probes,
             scales,
             roles: io(scene),
@@ -328,43 +281,6 @@ impl Beam2d {
         &self.q0
     }
 
-    /// Writes the prescribed motion at time `t` into full position (and, if given, velocity
-    /// and acceleration) vectors; in a static solve (`lambda` < 1) positions are ramped from
-    /// the reference configuration.
-    fn apply_prescribed(
-        &self,
-        t: f64,
-        lambda: f64,
-        mut q: Option<&mut [f64]>,
-        mut v: Option<&mut [f64]>,
-        mut a: Option<&mut [f64]>,
-    ) {
-        for (&node, sig) in self.motion_nodes.iter().zip(&self.motions) {
-            for axis in 0..2 {
-                let i = node * NODE_COORDS + axis;
-                let (mut p, mut pd, pdd) = prescribed(&sig[axis], &sig[axis + 2], t);
-                if self.hold_ports && t == self.t {
-                    (p, pd) = (self.q[i], self.v[i]);
-                }
-                if let Some(q) = q.as_deref_mut() {
-                    // exactly `p` when fully applied: q0 + (p - q0) can differ from p in the
-                    // last bit, and `port_force` relies on q = p at the committed state
-                    q[i] = if lambda == 1.0 {
-                        p
-                    } else {
-                        self.q0[i] + lambda * (p - self.q0[i])
-                    };
-                }
-                if let Some(v) = v.as_deref_mut() {
-                    v[i] = pd;
-                }
-                if let Some(a) = a.as_deref_mut() {
-                    a[i] = pdd;
-                }
-            }
-        }
-    }
-
     /// Elements adjacent to a node.
     fn elements_at(&self, node: usize) -> impl Iterator<Item = usize> {
         let n_el = self.set.len();
@@ -373,178 +289,12 @@ impl Beam2d {
             .flatten()
     }
 
-    /// Force the support must apply to the beam at the port node to enforce the motion:
-    /// `(M a + f_int − f_ext)` at its two position coordinates.
-    fn port_reaction(&self, port: usize, q: &[f64], a: &[f64]) -> [f64; 2] {
-        let node = self.motion_nodes[port];
-        let base = node * NODE_COORDS;
-        let mut r = [0.0; 2];
-        let mut fe = ElemVec::zeros();
-        for e in self.elements_at(node) {
-            let s = ElementState::new(self.set.gather(e, q), ElemVec::zeros());
-            let ae = self.set.gather(e, a);
-            let el = self.set.element(e);
-            el.force_into(&s, &mut fe);
-            fe += el.mass() * ae;
-            let local = if self.set.element_dofs(e)[0] == base {
-                0
-            } else {
-                4
-            };
-            r[0] += fe[local];
-            r[1] += fe[local + 1];
-        }
-        let mut ext = [0.0; 2];
-        for axis in 0..2 {
-            ext[axis] += self.gravity_full[base + axis];
-        }
-        for (map, sig) in self.load_maps.iter().zip(&self.loads) {
-            for (i, w) in map.weights() {
-                if i == base {
-                    ext[0] += w * sig[0].at(self.t);
-                    ext[1] += w * sig[1].at(self.t);
-                }
-            }
-        }
-        [r[0] - ext[0], r[1] - ext[1]]
-    }
-
-    /// Rows of `K_T + c_m M` at the port node's two position coordinates, at the committed
-    /// state, as `(full column index, [row x, row y])` over the adjacent elements.
-    fn port_rows(&self, port: usize, c_m: f64) -> Vec<(usize, [f64; 2])> {
-        let node = self.motion_nodes[port];
-        let base = node * NODE_COORDS;
-        let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
-        let mut rows: Vec<(usize, [f64; 2])> = Vec::new();
-        for e in self.elements_at(node) {
-            let s = ElementState::new(self.set.gather(e, &self.q), ElemVec::zeros());
-            let el = self.set.element(e);
-            el.tangent_into(&s, &mut fe, &mut ke, None);
-            ke += c_m * el.mass();
-            let dofs = self.set.element_dofs(e);
-            let local = if dofs[0] == base { 0 } else { 4 };
-            for (j, &col) in dofs.iter().enumerate() {
-                let entry = [ke[(local, j)], ke[(local + 1, j)]];
-                match rows.iter_mut().find(|(c, _)| *c == col) {
-                    Some((_, v)) => {
-                        v[0] += entry[0];
-                        v[1] += entry[1];
-                    }
-                    None => rows.push((col, entry)),
-                }
-            }
-        }
-        rows
-    }
-
-    /// Computes (once per communication point) the interface Jacobian `K_int` of the motion
-    /// ports at the committed state. If `S_ff` cannot be factorized, the frozen-interior
-    /// stiffness `S_cc` is used instead.
-    fn interface_jacobian(&mut self) -> &[f64] {
-        if self.interface.matrix.is_none() {
-            let m = self.compute_interface();
-            self.interface.matrix = Some(m);
-        }
-        self.interface.matrix.as_deref().expect("just computed")
-    }
-
-    fn compute_interface(&mut self) -> Vec<f64> {
-        let np = 2 * self.motion_nodes.len();
-        let c_m = 4.0 / (self.interface.h * self.interface.h);
-        // Rows of S (reaction response to the interior) and of K_T (to the port itself);
-        // both matrices are symmetric, so rows give the columns S_fc, K_fc too.
-        let rows: Vec<Vec<(usize, [f64; 2])>> = (0..self.motion_nodes.len())
-            .map(|p| self.port_rows(p, c_m))
-            .collect();
-        let stiff: Vec<Vec<(usize, [f64; 2])>> = (0..self.motion_nodes.len())
-            .map(|p| self.port_rows(p, 0.0))
-            .collect();
-        let coord = |j: usize| self.motion_nodes[j / 2] * NODE_COORDS + j % 2;
-        let entry = |i: usize, col: usize| {
-            stiff[i / 2]
-                .iter()
-                .find(|(c, _)| *c == col)
-                .map_or(0.0, |(_, r)| r[i % 2])
-        };
-        let mut k = vec![0.0; np * np];
-        for i in 0..np {
-            for j in 0..np {
-                k[i * np + j] = entry(i, coord(j));
-            }
-        }
-        // S_ff
-        let mut vals = std::mem::take(&mut self.interface.vals);
-        vals.clear();
-        vals.resize(self.asm.pattern.nnz(), 0.0);
-        let mut f = std::mem::take(&mut self.fw);
-        f.fill(0.0);
-        let coeffs = JacobianCoeffs {
-            mass: c_m,
-            damping: 0.0,
-            stiffness: 1.0,
-        };
-        let x = Eval {
-            q: &self.q,
-            v: &self.v,
-            a: &self.acc,
-            g: Vector3::zeros(),
-        };
-        self.set
-            .add_residual(&x, None, &mut f, Some((coeffs, &mut vals)));
-        self.fw = f;
-        let solver = match self.interface.solver.take() {
-            Some(s) => Some(s),
-            None => LinearSolver::new(&self.asm.pattern, SolverKind::Auto).ok(),
-        };
-        if let Some(mut solver) = solver {
-            if solver.factor(&self.asm.pattern, &vals).is_ok() {
-                let n = self.asm.dofs.n_free();
-                let free_vector = |from: &[(usize, [f64; 2])], axis: usize| {
-                    let mut b = vec![0.0; n];
-                    for (col, r) in from {
-                        if let Some(f) = self.asm.dofs.free_index(*col) {
-                            b[f] = r[axis];
-                        }
-                    }
-                    b
-                };
-                let s_rows: Vec<Vec<f64>> =
-                    (0..np).map(|i| free_vector(&rows[i / 2], i % 2)).collect();
-                for j in 0..np {
-                    let mut x = free_vector(&stiff[j / 2], j % 2);
-                    solver.solve_in_place(&mut x);
-                    for i in 0..np {
-                        k[i * np + j] -= s_rows[i].iter().zip(&x).map(|(a, b)| a * b).sum::<f64>();
-                    }
-                }
-            }
-            self.interface.solver = Some(solver);
-        }
-        self.interface.vals = vals;
-        k
-    }
-
-    /// Force on the driver at port `port`, `axis`, with the current inputs: the committed
-    /// reaction, extrapolated with the interface Jacobian if the inputs moved the port.
-    fn port_force(&self, port: usize, axis: usize) -> f64 {
-        let r = self.port_reaction(port, &self.q, &self.acc)[axis];
-        let np = 2 * self.motion_nodes.len();
-        let mut extra = 0.0;
-        for (j, (&node, sig)) in self.motion_nodes.iter().zip(&self.motions).enumerate() {
-            for c in 0..2 {
-                let (p, _, _) = prescribed(&sig[c], &sig[c + 2], self.t);
-                let d = p - self.q[node * NODE_COORDS + c];
-                if d != 0.0 {
-                    let k = self
-                        .interface
-                        .matrix
-                        .as_ref()
-                        .expect("computed when an input moved a port");
-                    extra += k[(2 * port + axis) * np + 2 * j + c] * d;
-                }
-            }
-        }
-        -(r + extra)
+    /// Computes the interface Jacobian of the motion ports at the committed state unless it
+    /// is current ([`Ports::update_interface`]).
+    fn update_interface(&mut self) {
+        let mut ports = std::mem::take(&mut self.ports);
+        ports.update_interface(self);
+        self.ports = ports;
     }
 
     /// An output of the committed state with the current inputs.
@@ -569,7 +319,7 @@ impl Beam2d {
                     self.kinetic_energy() + self.potential_energy() + self.strain_energy()
                 }
             },
-            Output::Reaction { port, axis } => self.port_force(port, axis),
+            Output::Reaction { port, axis } => self.ports.force(self, port, axis),
             // not declared by planar beam scenes
         }
     }
@@ -642,7 +392,7 @@ impl Beam2d {
     fn input_signal(&mut self, input: usize) -> &mut InputSignal {
         match self.roles.inputs[input] {
             Input::Load { load, axis } => &mut self.loads[load][axis],
-            Input::Motion { port, component } => &mut self.motions[port][component],
+            Input::Motion { port, component } => self.ports.signal_mut(port, component),
         }
     }
 }
@@ -652,7 +402,7 @@ impl Model for Beam2d {
         let t = self.t;
         self.input_signal(input).set(value, t);
         if matches!(self.roles.inputs[input], Input::Motion { .. }) {
-            self.interface_jacobian();
+            self.update_interface();
         }
     }
 
@@ -667,7 +417,7 @@ impl Model for Beam2d {
         }
         self.input_signal(input).set_derivative(order, value);
         if matches!(self.roles.inputs[input], Input::Motion { .. }) {
-            self.interface_jacobian();
+            self.update_interface();
         }
         Ok(())
     }
@@ -699,11 +449,7 @@ impl Model for Beam2d {
                 }
             }
             // d/dt of the stiffness part of the reaction, K_c: v (inertia rates neglected).
-            Output::Reaction { port, axis } => -self
-                .port_rows(port, 0.0)
-                .iter()
-                .map(|(col, rows)| rows[axis] * self.v[*col])
-                .sum::<f64>(),
+            Output::Reaction { port, axis } => self.ports.force_rate(self, port, axis, &self.v),
         })
     }
 
@@ -717,21 +463,14 @@ impl Model for Beam2d {
                         component,
                     },
                 ) => {
-                    let sig = &self.motions[p2];
-                    // ∂p/∂(input): 1 for the position, τ for the velocity (unless the position
-                    // carries its own derivatives).
-                    let (coord, dp) = match component {
-                        0 | 1 => (component, 1.0),
-                        _ if sig[component - 2].interpolated => return Some(0.0),
-                        _ => (component - 2, self.t - sig[component - 2].t_ref),
-                    };
-                    let np = 2 * self.motion_nodes.len();
-                    let k = self.interface_jacobian();
-                    -dp * k[(2 * port + axis) * np + 2 * p2 + coord]
+                    let mut ports = std::mem::take(&mut self.ports);
+                    let d = ports.force_input_derivative(self, port, axis, p2, component);
+                    self.ports = ports;
+                    d
                 }
                 // A load on the port node goes straight into the driver (`port_reaction`).
                 (Output::Reaction { port, axis }, Input::Load { load, axis: a2 }) => {
-                    let base = self.motion_nodes[port] * NODE_COORDS;
+                    let base = self.ports.coords(port)[0];
                     if a2 != axis {
                         return Some(0.0);
                     }
@@ -752,13 +491,11 @@ impl Model for Beam2d {
     }
 
     fn hold_prescribed_motion(&mut self, hold: bool) {
-        self.hold_ports = hold;
+        self.ports.hold(hold);
     }
 
     fn begin_communication_step(&mut self, t0: f64, t1: f64) {
-        if t1 > t0 && (t1 - t0) != self.interface.h {
-            self.interface.h = t1 - t0;
-        }
+        self.ports.begin_communication_step(t0, t1);
     }
 
     fn accept(&mut self, state: &mut DynState) {
@@ -771,9 +508,10 @@ impl Model for Beam2d {
             std::mem::take(&mut self.v),
             std::mem::take(&mut self.acc),
         );
-        self.apply_prescribed(self.t, 1.0, Some(&mut q), Some(&mut v), Some(&mut a));
+        self.ports
+            .apply(self.t, 1.0, Some(&mut q), Some(&mut v), Some(&mut a));
+        self.ports.commit(self.t, &q, &v);
         (self.q, self.v, self.acc) = (q, v, a);
-        self.interface.matrix = None;
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
@@ -786,15 +524,10 @@ impl Model for Beam2d {
         w.f64s(&self.q);
         w.f64s(&self.v);
         w.f64s(&self.acc);
-        for sig in self
-            .loads
-            .iter()
-            .flatten()
-            .chain(self.motions.iter().flatten())
-        {
+        for sig in self.loads.iter().flatten() {
             sig.save(w);
         }
-        w.f64(self.interface.h);
+        self.ports.save(w);
         Ok(())
     }
 
@@ -804,19 +537,12 @@ impl Model for Beam2d {
         r.f64s_into(&mut self.q).map_err(e)?;
         r.f64s_into(&mut self.v).map_err(e)?;
         r.f64s_into(&mut self.acc).map_err(e)?;
-        for sig in self
-            .loads
-            .iter_mut()
-            .flatten()
-            .chain(self.motions.iter_mut().flatten())
-        {
+        for sig in self.loads.iter_mut().flatten() {
             *sig = InputSignal::restore(r).map_err(e)?;
         }
-        self.interface.h = r.f64().map_err(e)?;
-        self.interface.matrix = None;
-        if !self.motion_nodes.is_empty() {
-            self.interface_jacobian();
-        }
+        self.ports.restore(r).map_err(e)?;
+        self.ports.commit(self.t, &self.q, &self.v);
+        self.update_interface();
         Ok(())
     }
 }
@@ -852,7 +578,8 @@ impl MechanicalSystem for Beam2d {
         self.asm.dofs.expand(q, &mut qw);
         self.asm.dofs.expand(v, &mut vw);
         self.asm.dofs.expand(a, &mut aw);
-        self.apply_prescribed(t, load_factor, Some(&mut qw), Some(&mut vw), Some(&mut aw));
+        self.ports
+            .apply(t, load_factor, Some(&mut qw), Some(&mut vw), Some(&mut aw));
         let mut f = std::mem::take(&mut self.fw);
         f.fill(0.0);
         if let Some((_, vals)) = jac.as_mut() {
@@ -893,9 +620,10 @@ impl MechanicalSystem for Beam2d {
         self.asm.dofs.expand(v, &mut vw);
         self.asm.dofs.expand(a, &mut aw);
         let t_mid = 0.5 * (t_a + t_b);
-        self.apply_prescribed(t_a, 1.0, Some(&mut qa), None, None);
-        self.apply_prescribed(t_b, 1.0, Some(&mut qb), None, None);
-        self.apply_prescribed(t_mid, 1.0, None, Some(&mut vw), Some(&mut aw));
+        self.ports.apply(t_a, 1.0, Some(&mut qa), None, None);
+        self.ports.apply(t_b, 1.0, Some(&mut qb), None, None);
+        self.ports
+            .apply(t_mid, 1.0, None, Some(&mut vw), Some(&mut aw));
         let mut f = std::mem::take(&mut self.fw);
         f.fill(0.0);
         if let Some((_, vals)) = jac.as_mut() {
@@ -918,5 +646,88 @@ impl MechanicalSystem for Beam2d {
         self.subtract_external(t_mid, 1.0, &mut f);
         (self.qw, self.qw2, self.vw, self.aw, self.fw) = (qa, qb, vw, aw, f);
         self.finish(r, &jac)
+    }
+}
+
+/// The rows and free–free matrix of the beam at its motion ports (two position coordinates of
+/// a node each), at the committed state.
+impl PortHost for Beam2d {
+    fn free_index(&self, full: usize) -> Option<usize> {
+        self.asm.dofs.free_index(full)
+    }
+
+    /// `(M a + f_int − f_ext)` at the port node's two position coordinates, summed over the
+    /// adjacent elements.
+    fn port_residual(&self, coords: &[usize], out: &mut [f64]) {
+        let base = coords[0];
+        let node = base / NODE_COORDS;
+        let mut r = [0.0; 2];
+        let mut fe = ElemVec::zeros();
+        for e in self.elements_at(node) {
+            let s = ElementState::new(self.set.gather(e, &self.q), ElemVec::zeros());
+            let ae = self.set.gather(e, &self.acc);
+            let el = self.set.element(e);
+            el.force_into(&s, &mut fe);
+            fe += el.mass() * ae;
+            let local = if self.set.element_dofs(e)[0] == base {
+                0
+            } else {
+                4
+            };
+            r[0] += fe[local];
+            r[1] += fe[local + 1];
+        }
+        let mut ext = [0.0; 2];
+        for axis in 0..2 {
+            ext[axis] += self.gravity_full[base + axis];
+        }
+        for (map, sig) in self.load_maps.iter().zip(&self.loads) {
+            for (i, w) in map.weights() {
+                if i == base {
+                    ext[0] += w * sig[0].at(self.t);
+                    ext[1] += w * sig[1].at(self.t);
+                }
+            }
+        }
+        out[0] = r[0] - ext[0];
+        out[1] = r[1] - ext[1];
+    }
+
+    /// Rows of `K_T + c_m M` of the adjacent elements, element after element.
+    fn port_rows(&self, coords: &[usize], c_m: f64, add: &mut dyn FnMut(usize, usize, f64)) {
+        let base = coords[0];
+        let node = base / NODE_COORDS;
+        let (mut fe, mut ke) = (ElemVec::zeros(), ElemMat::zeros());
+        for e in self.elements_at(node) {
+            let s = ElementState::new(self.set.gather(e, &self.q), ElemVec::zeros());
+            let el = self.set.element(e);
+            el.tangent_into(&s, &mut fe, &mut ke, None);
+            ke += c_m * el.mass();
+            let dofs = self.set.element_dofs(e);
+            let local = if dofs[0] == base { 0 } else { 4 };
+            for (j, &col) in dofs.iter().enumerate() {
+                add(0, col, ke[(local, j)]);
+                add(1, col, ke[(local + 1, j)]);
+            }
+        }
+    }
+
+    fn free_matrix(&mut self, c_m: f64, vals: &mut [f64]) {
+        let mut f = std::mem::take(&mut self.fw);
+        f.fill(0.0);
+        let coeffs = JacobianCoeffs {
+            mass: c_m,
+            damping: 0.0,
+            stiffness: 1.0,
+        };
+        let x = Eval {
+            q: &self.q,
+            v: &self.v,
+            a: &self.acc,
+            g: Vector3::zeros(),
+        };
+        self.set
+            .add_residual(&x, None, &mut f, Some((coeffs, vals)));
+        self.fw = f;
     }
 }

@@ -293,13 +293,10 @@ pub fn io(s: &Beam2dScene) -> KindIo<Input, Output> {
     }
     for (i, p) in s.probes.iter().enumerate() {
         for q in &p.outputs {
-            let (suffix, unit, what) = match q {
-                ProbeQuantity::X => ("x", Unit::M, "Position x"),
-                ProbeQuantity::Y => ("y", Unit::M, "Position y"),
-                ProbeQuantity::Vx => ("vx", Unit::MPerS, "Velocity x"),
-                ProbeQuantity::Vy => ("vy", Unit::MPerS, "Velocity y"),
-                _ => continue, // rejected by `check`
-            };
+            if !q.is_planar() {
+                continue; // rejected by `check`
+            }
+            let (suffix, unit, what) = q.declaration();
             io.output(
                 format!("{}.{suffix}", p.name),
                 unit,

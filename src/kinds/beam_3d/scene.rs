@@ -328,27 +328,7 @@ pub fn io(s: &Beam3dScene) -> KindIo<Input, Output> {
     }
     for (i, p) in s.probes.iter().enumerate() {
         for q in &p.outputs {
-            let (suffix, unit, what) = match q {
-                ProbeQuantity::X => ("x", Unit::M, "Position x"),
-                ProbeQuantity::Y => ("y", Unit::M, "Position y"),
-                ProbeQuantity::Z => ("z", Unit::M, "Position z"),
-                ProbeQuantity::Vx => ("vx", Unit::MPerS, "Velocity x"),
-                ProbeQuantity::Vy => ("vy", Unit::MPerS, "Velocity y"),
-                ProbeQuantity::Vz => ("vz", Unit::MPerS, "Velocity z"),
-                ProbeQuantity::Rx => (
-                    "rx",
-                    Unit::Rad,
-                    "Rotation vector from the reference orientation (principal value, |r| <= pi), x",
-                ),
-                ProbeQuantity::Ry => ("ry", Unit::Rad, "Rotation vector (principal value), y"),
-                ProbeQuantity::Rz => ("rz", Unit::Rad, "Rotation vector (principal value), z"),
-                ProbeQuantity::Tx => ("tx", Unit::One, "Beam axis direction cosine with x"),
-                ProbeQuantity::Ty => ("ty", Unit::One, "Beam axis direction cosine with y"),
-                ProbeQuantity::Tz => ("tz", Unit::One, "Beam axis direction cosine with z"),
-                ProbeQuantity::Wx => ("wx", Unit::RadPerS, "Angular velocity, global x"),
-                ProbeQuantity::Wy => ("wy", Unit::RadPerS, "Angular velocity, global y"),
-                ProbeQuantity::Wz => ("wz", Unit::RadPerS, "Angular velocity, global z"),
-            };
+            let (suffix, unit, what) = q.declaration();
             io.output(
                 format!("{}.{suffix}", p.name),
                 unit,
