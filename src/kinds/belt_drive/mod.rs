@@ -1,9 +1,13 @@
 //! Kind `belt_drive`: a closed belt of ANCF cable (or seed-000) elements around pulleys that
 //! are driven (motion in, belt torque out) or free (inertia inside the FMU, torque in), with
 //! Coulomb friction contact. Scene tables here, declarations in [`scene`], the model in
-//! [`model`].
+//! [`model`], assembled from its pulleys (`pulleys.rs`), pre-load (`preload.rs`) and energy book
+//! (`energy.rs`) and the contact point set of [`crate::contact`].
 
+mod energy;
 pub mod model;
+mod preload;
+mod pulleys;
 pub mod scene;
 
 use super::legacy_has_belt;

@@ -7,26 +7,32 @@
 //! every belt coordinate through the contact (the iteration matrix is a ring with a border,
 //! factorized by the bordered banded LU of [`crate::linalg::bordered`]).
 //!
-//! Contact: [`crate::contact::circle_friction`] at `contact.points_per_element` equally spaced
-//! material points per element. Equations of motion:
+//! Contact: a [`ContactPointSet`] of `contact.points_per_element` equally spaced material
+//! points per element against the pulleys' pitch circles ([`Circle`] obstacles, kernel
+//! [`crate::contact::circle_friction`]). This file assembles the drive from its pieces: the
+//! pulleys (`pulleys.rs`), the static pre-load (`preload.rs`) and the energy book
+//! (`energy.rs`). Equations of motion:
 //! `M q̈ + Q_int(q, q̇) − Σ Q_contact(q, q̇, θ, ω) − Q_g = 0` for the belt and
 //! `J θ̈ + c θ̇ − τ_in − Σ τ_contact = 0` for each free pulley.
 
+use super::energy::{EnergyBook, StepRates};
+pub use super::preload::PreloadReport;
+use super::pulleys::PulleyIo;
+pub use super::pulleys::{PulleyDef, PulleyKind};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
-use crate::contact::circle_friction::{self, polar_angle};
-use crate::contact::{Circle, ContactLaw, PointHistory, PointState};
+use crate::contact::{Circle, ContactLaw, ContactPointSet};
 use crate::elements::Element;
 use crate::elements::ancf_cable2d::{self, AncfCable2d, CableRule, CableSection, ElemVec};
 use crate::elements::ancf_shear2d::{AncfShear2d, Section, Shear2dElement, ShearRule};
 use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::integrators::DynState;
 use crate::kinds::KindIo;
-use crate::kinds::belt_drive::scene::{BeltOutput, Input, Output, PulleyInput};
+use crate::kinds::belt_drive::scene::{BeltOutput, Input, Output};
 use crate::kinds::belt_drive::{BeltDriveScene, PulleyMode};
 use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
 use crate::meshers::belt_loop::{Loop, PitchCircle};
-use crate::model::inputs::{InputSignal, prescribed};
+use crate::model::inputs::InputSignal;
 use crate::model::rates;
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::{
@@ -35,11 +41,11 @@ use crate::scene::params::{
 };
 use crate::snapshot::{StateReader, StateWriter};
 use crate::solver::simulation::SolverConfig;
-use nalgebra::{SMatrix, Vector2, Vector3};
+use nalgebra::{Vector2, Vector3};
 use std::sync::Arc;
 
 /// Coordinates per belt node.
-const NC: usize = 4;
+pub(super) const NC: usize = 4;
 
 /// Which element the belt is made of.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,31 +55,6 @@ pub enum BeltElementKind {
     /// Seed-000 shear-deformable ANCF beam with an equivalent rectangle of height
     /// `h = √(12 EI/EA)`, unit width, `E = EA/h`, ν = 0.3, 1×2 shear rule.
     Shear,
-}
-
-/// How a pulley moves.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum PulleyKind {
-    /// Angle and speed prescribed by inputs.
-    Driven,
-    /// Rigid body: moment of inertia [kg m²] and bearing damping [N m s/rad].
-    Free {
-        /// Moment of inertia [kg m²].
-        inertia: f64,
-        /// Bearing damping [N m s/rad].
-        damping: f64,
-    },
-}
-
-/// A pulley of the drive.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PulleyDef {
-    /// Centre [m].
-    pub center: Vector2<f64>,
-    /// Radius [m] (the belt's inner face rests on it).
-    pub radius: f64,
-    /// Driven or free.
-    pub kind: PulleyKind,
 }
 
 /// The belt's path at the start.
@@ -174,7 +155,7 @@ pub fn default_contact(
 /// What the belt needs of its element besides the [`Element`] trait: centre-line weights and
 /// the axial force. Implemented by the cable and by the seed-000 beam; the belt holds one
 /// shared element of either type in its [`ElementSet`].
-trait BeltElement: Element<8> {
+pub(super) trait BeltElement: Element<8> {
     /// Reference length [m].
     fn length(&self) -> f64;
 
@@ -250,149 +231,51 @@ fn belt_element(
     })
 }
 
-#[derive(Clone, Copy, Debug, Default)]
-struct PulleyIo {
-    /// Prescribed angle [rad], speed [rad/s] (driven) and input torque [N m] (free) as
-    /// signals of time (`fmi2SetRealInputDerivatives`).
-    angle_in: InputSignal,
-    omega_in: InputSignal,
-    torque_in: InputSignal,
-    // results of the committed state
-    torque: f64,
-    force: Vector2<f64>,
-}
-
-/// Outputs that depend on the contact history (pulley torques and forces, span tensions,
-/// contact energy, dissipated energy), or their rates over the last internal step.
-#[derive(Clone, Debug, Default, PartialEq)]
-struct StepRates {
-    /// Per pulley: torque [N m], force x, y [N] (or their rates).
-    pulleys: Vec<[f64; 3]>,
-    /// Larger and smaller span tension [N].
-    tight: f64,
-    slack: f64,
-    /// Penalty energy of the contact [J].
-    contact_energy: f64,
-    /// Energy dissipated since the start [J].
-    dissipated: f64,
-}
-
-impl StepRates {
-    /// `(self − before)/h`.
-    fn rate_since(&self, before: &Self, h: f64) -> Self {
-        let d = |a: f64, b: f64| (a - b) / h;
-        Self {
-            pulleys: self
-                .pulleys
-                .iter()
-                .zip(&before.pulleys)
-                .map(|(a, b)| [d(a[0], b[0]), d(a[1], b[1]), d(a[2], b[2])])
-                .collect(),
-            tight: d(self.tight, before.tight),
-            slack: d(self.slack, before.slack),
-            contact_energy: d(self.contact_energy, before.contact_energy),
-            dissipated: d(self.dissipated, before.dissipated),
-        }
-    }
-
-    fn save(&self, w: &mut StateWriter) {
-        w.u64(self.pulleys.len() as u64);
-        for p in &self.pulleys {
-            w.f64s(p);
-        }
-        for x in [self.tight, self.slack, self.contact_energy, self.dissipated] {
-            w.f64(x);
-        }
-    }
-
-    fn restore(
-        r: &mut StateReader,
-        n_pulleys: usize,
-    ) -> Result<Self, crate::snapshot::SnapshotError> {
-        let n = r.u64()? as usize;
-        let mut pulleys = vec![[0.0; 3]; n.min(n_pulleys)];
-        for p in pulleys.iter_mut() {
-            r.f64s_into(p)?;
-        }
-        Ok(Self {
-            pulleys,
-            tight: r.f64()?,
-            slack: r.f64()?,
-            contact_energy: r.f64()?,
-            dissipated: r.f64()?,
-        })
-    }
-}
-
-#[derive(Clone, Copy, Debug, Default)]
-struct EnergyBook {
-    input_work: f64,
-    dissipated: f64,
-    p_in: f64,
-    p_diss: f64,
-    contact_energy: f64,
-}
-
-/// What the static pre-load did.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct PreloadReport {
-    /// Static solves (one per reference-length correction).
-    pub solves: usize,
-    /// Newton iterations in total.
-    pub iterations: usize,
-    /// Span tensions after the last solve [N].
-    pub span_tensions: Vec<f64>,
-}
-
 /// The belt-drive model.
 #[derive(Clone, Debug)]
 pub struct BeltDrive {
-    spec: BeltSpec,
+    pub(super) spec: BeltSpec,
     /// What each input and output of the scene means, by index (empty for a model built
     /// from a [`BeltSpec`] without a scene: drive it with the typed methods).
-    roles: KindIo<Input, Output>,
+    pub(super) roles: KindIo<Input, Output>,
     /// The belt's elements (one shared element: all have the same reference length).
-    set: ElementSet<Arc<dyn BeltElement>, 8>,
-    n_el: usize,
-    n_nodes: usize,
-    closed: bool,
-    asm: Assembly,
-    pulley_dof: Vec<usize>,
-    circles: Vec<Circle>,
-    cp: Vec<[f64; 4]>,
-    cp_w: f64,
-    hist: Vec<PointHistory>,
-    /// Element coordinates plus the angle of pulley `k`, row `e · n_pulleys + k`: the contact
-    /// blocks.
-    contact_blocks: Connectivity<9>,
-    gravity_full: Vec<f64>,
-    end_loads: [Vector2<f64>; 2],
-    span_mid: Vec<Vector2<f64>>,
-    scales: Vec<f64>,
-    io: Vec<PulleyIo>,
-    t0_step: Option<f64>,
+    pub(super) set: ElementSet<Arc<dyn BeltElement>, 8>,
+    pub(super) n_el: usize,
+    pub(super) n_nodes: usize,
+    pub(super) closed: bool,
+    pub(super) asm: Assembly,
+    pub(super) pulley_dof: Vec<usize>,
+    /// Contact points on the belt against the pulleys' pitch circles; blocks: element
+    /// coordinates plus the angle of pulley `k`, row `e · n_pulleys + k`.
+    pub(super) contact: ContactPointSet<Circle, 2, 4, 9>,
+    pub(super) gravity_full: Vec<f64>,
+    pub(super) end_loads: [Vector2<f64>; 2],
+    pub(super) span_mid: Vec<Vector2<f64>>,
+    pub(super) scales: Vec<f64>,
+    pub(super) io: Vec<PulleyIo>,
+    pub(super) t0_step: Option<f64>,
     // committed state
-    t: f64,
-    q: Vec<f64>,
-    v: Vec<f64>,
+    pub(super) t: f64,
+    pub(super) q: Vec<f64>,
+    pub(super) v: Vec<f64>,
     /// Accelerations of the committed state (output rates).
-    acc: Vec<f64>,
+    pub(super) acc: Vec<f64>,
     /// Rates of the history-dependent outputs over the last internal step.
-    step_rates: Option<StepRates>,
-    tensions: Vec<f64>,
-    slipping_points: usize,
-    energy: EnergyBook,
-    preload: PreloadReport,
+    pub(super) step_rates: Option<StepRates>,
+    pub(super) tensions: Vec<f64>,
+    pub(super) slipping_points: usize,
+    pub(super) energy: EnergyBook,
+    pub(super) preload: PreloadReport,
     /// Free pulleys held at these angles by a stiff bearing spring during static solves (the
     /// pre-load, a static initialization): otherwise belt and free pulleys turning together
     /// are a mechanism.
-    held_angles: Option<Vec<f64>>,
+    pub(super) held_angles: Option<Vec<f64>>,
     // work buffers
-    qw: Vec<f64>,
-    vw: Vec<f64>,
-    aw: Vec<f64>,
-    fw: Vec<f64>,
-    qmid: Vec<f64>,
+    pub(super) qw: Vec<f64>,
+    pub(super) vw: Vec<f64>,
+    pub(super) aw: Vec<f64>,
+    pub(super) fw: Vec<f64>,
+    pub(super) qmid: Vec<f64>,
 }
 
 impl BeltDrive {
@@ -527,7 +410,7 @@ impl BeltDrive {
                 }
             })
             .collect();
-        let n_cp = spec.points_per_element.max(1);
+        let contact = ContactPointSet::new(spec.contact, circles, contact_blocks, [0, 2]);
         let mut me = Self {
             roles: KindIo::default(),
             set,
@@ -535,11 +418,7 @@ impl BeltDrive {
             n_nodes,
             closed,
             pulley_dof,
-            circles,
-            cp: vec![],
-            cp_w: l_ref / n_cp as f64,
-            hist: vec![PointHistory::default(); n_el * n_cp * np],
-            contact_blocks,
+            contact,
             gravity_full: vec![0.0; n_full],
             end_loads: [Vector2::zeros(); 2],
             span_mid,
@@ -667,20 +546,20 @@ impl BeltDrive {
     }
 
     /// Rebuilds the element, mass, gravity and contact points for reference length `l`.
-    fn set_reference_length(&mut self, l: f64) -> Result<(), String> {
+    pub(super) fn set_reference_length(&mut self, l: f64) -> Result<(), String> {
         self.set.set_elements(vec![belt_element(
             self.spec.element,
             &self.spec.section,
             l,
         )?]);
         let n_cp = self.spec.points_per_element.max(1);
-        self.cp = (0..n_cp)
+        let weights = (0..n_cp)
             .map(|i| {
                 self.element()
                     .centerline((i as f64 + 0.5) / n_cp as f64 * l)
             })
             .collect();
-        self.cp_w = l / n_cp as f64;
+        self.contact.set_points(weights, l / n_cp as f64);
         self.gravity_full.iter_mut().for_each(|x| *x = 0.0);
         let g = self.spec.gravity;
         self.set.add_gravity(
@@ -694,49 +573,8 @@ impl BeltDrive {
     }
 
     /// The belt element (all elements share it).
-    fn element(&self) -> &dyn BeltElement {
+    pub(super) fn element(&self) -> &dyn BeltElement {
         &**self.set.element(0)
-    }
-
-    /// Static pre-load: solve, compare the mean span tension with `pretension`, correct the
-    /// reference length, repeat (at most 4 times). Free pulleys are held at their angles
-    /// while the belt is mounted (see [`MechanicalSystem::hold_for_statics`]).
-    fn preload(&mut self, pretension: f64) -> Result<(), String> {
-        use crate::solver::newton::Workspace;
-        let (settings, kind, load_steps) = self.spec.statics;
-        let mut ws = Workspace::new(&*self, kind).map_err(|e| e.to_string())?;
-        let n = self.n_free();
-        let (mut qf, mut vf) = (vec![0.0; n], vec![0.0; n]);
-        for round in 0..5 {
-            self.free_state(&mut qf, &mut vf);
-            let st = crate::solver::statics::solve(self, &mut ws, &mut qf, &settings, load_steps)
-                .map_err(|e| {
-                    let s = &self.spec.section;
-                    format!(
-                        "static pre-load of the belt (belt.EA = {} N, belt.EI = {} N.m2, belt.mass_per_length = {} kg/m, belt.damping_axial = {} N.s, belt.damping_bending = {} N.m2.s, belt.pretension = {pretension} N, belt.thickness = {} m, contact.mu = {}, contact.stiffness = {} N/m2, with the pulleys' radius and center; solver.newton_tolerance = {}, solver.max_iterations = {}): {e}",
-                        s.ea, s.ei, s.mass_per_length, s.damping_axial, s.damping_bending, self.spec.thickness, self.spec.contact.mu, self.spec.contact.k_n, settings.tolerance, settings.max_iterations
-                    )
-                })?;
-            self.preload.solves += 1;
-            self.preload.iterations += st.newton.iterations;
-            self.asm.dofs.expand(&qf, &mut self.q);
-            let t = self.t;
-            self.commit(t, false);
-            let mean = self.tensions.iter().sum::<f64>() / self.tensions.len().max(1) as f64;
-            self.preload.span_tensions = self.tensions.clone();
-            if (mean - pretension).abs() <= 1e-3 * pretension || round == 4 {
-                break;
-            }
-            let ea = self.spec.section.ea;
-            let l = self.element().length() * (1.0 + mean / ea) / (1.0 + pretension / ea);
-            self.set_reference_length(l)?;
-        }
-        Ok(())
-    }
-
-    /// Report of the static pre-load.
-    pub fn preload_report(&self) -> &PreloadReport {
-        &self.preload
     }
 
     /// Force on an end of an open belt (0: first node, 1: last node) [N].
@@ -785,66 +623,6 @@ impl BeltDrive {
         self.element().axial_force_mid(&qe, self.spec.section.ea)
     }
 
-    /// Pitch radius of pulley `k` [m].
-    pub fn pitch_radius(&self, k: usize) -> f64 {
-        self.circles[k].radius
-    }
-
-    /// Prescribed angle, speed and angular acceleration of a driven pulley at time `t`: the
-    /// angle input's polynomial if it has derivatives, else the angle advanced with the speed
-    /// input ([`prescribed`]).
-    fn driven(&self, k: usize, t: f64) -> (f64, f64, f64) {
-        let io = &self.io[k];
-        prescribed(&io.angle_in, &io.omega_in, t)
-    }
-
-    /// Sets the driven pulleys' angles and speeds into full vectors.
-    fn prescribe(&self, t: f64, q: &mut [f64], v: &mut [f64], a: Option<&mut [f64]>) {
-        let mut a = a;
-        for (k, p) in self.spec.pulleys.iter().enumerate() {
-            if p.kind == PulleyKind::Driven {
-                let (th, om, al) = self.driven(k, t);
-                q[self.pulley_dof[k]] = th;
-                v[self.pulley_dof[k]] = om;
-                if let Some(a) = a.as_deref_mut() {
-                    a[self.pulley_dof[k]] = al;
-                }
-            }
-        }
-    }
-
-    #[inline]
-    fn point_state(&self, e: usize, i: usize, k: usize, q: &[f64], v: &[f64]) -> PointState {
-        let d = self.set.element_dofs(e);
-        let s = &self.cp[i];
-        let (mut r, mut vel) = (Vector2::zeros(), Vector2::zeros());
-        for a in 0..4 {
-            r.x += s[a] * q[d[2 * a]];
-            r.y += s[a] * q[d[2 * a + 1]];
-            vel.x += s[a] * v[d[2 * a]];
-            vel.y += s[a] * v[d[2 * a + 1]];
-        }
-        let pd = self.pulley_dof[k];
-        PointState {
-            r,
-            v: vel,
-            theta: q[pd],
-            omega: v[pd],
-        }
-    }
-
-    /// Whether element `e` can touch pulley `k` (node distances minus half the chord).
-    #[inline]
-    fn near(&self, e: usize, k: usize, q: &[f64]) -> bool {
-        let d = self.set.element_dofs(e);
-        let ri = Vector2::new(q[d[0]], q[d[1]]);
-        let rj = Vector2::new(q[d[4]], q[d[5]]);
-        let c = &self.circles[k];
-        let chord = (rj - ri).norm();
-        let dist = (ri - c.center).norm().min((rj - c.center).norm());
-        dist - 0.55 * chord - 1e-3 * c.radius < c.radius
-    }
-
     /// Residual terms into `self.fw` from `self.qw`, `self.vw`, `self.aw`, and the iteration
     /// matrix (stiffness part scaled by `k_scale`, for the midpoint rule).
     fn evaluate(
@@ -853,8 +631,6 @@ impl BeltDrive {
         load_factor: f64,
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let np = self.circles.len();
-        let n_cp = self.cp.len();
         let mut f = std::mem::take(&mut self.fw);
         f.iter_mut().for_each(|x| *x = 0.0);
         let mut jac = jac;
@@ -869,80 +645,13 @@ impl BeltDrive {
         };
         self.set
             .add_residual(&x, None, &mut f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
-        // pulleys
-        for (k, p) in self.spec.pulleys.iter().enumerate() {
-            if let PulleyKind::Free { inertia, damping } = p.kind {
-                let pd = self.pulley_dof[k];
-                f[pd] += inertia * self.aw[pd] + damping * self.vw[pd] - self.io[k].torque_in.at(t);
-                // bearing spring of a held pulley while the belt is mounted [N m/rad]
-                let k_hold = match &self.held_angles {
-                    Some(held) => {
-                        let k_hold = 1e3 * self.spec.section.ea * p.radius * p.radius;
-                        f[pd] += k_hold * (self.qw[pd] - held[k]);
-                        k_hold
-                    }
-                    None => 0.0,
-                };
-                if let Some((c, vals)) = jac.as_mut() {
-                    let m = c.mass * inertia + c.damping * damping + c.stiffness * k_hold;
-                    self.asm.add_entry(pd, pd, m, vals);
-                }
-            }
-        }
-        // contact
-        let mut blk = SMatrix::<f64, 9, 9>::zeros();
-        for e in 0..self.n_el {
-            for k in 0..np {
-                if !self.near(e, k, &self.qw) {
-                    continue;
-                }
-                let mut any = false;
-                blk.fill(0.0);
-                let d = *self.set.element_dofs(e);
-                for i in 0..n_cp {
-                    let st = self.point_state(e, i, k, &self.qw, &self.vw);
-                    let h = &self.hist[(e * n_cp + i) * np + k];
-                    let Some(res) = circle_friction::evaluate(
-                        &self.spec.contact,
-                        &self.circles[k],
-                        self.cp_w,
-                        &st,
-                        h,
-                    ) else {
-                        continue;
-                    };
-                    any = true;
-                    let s = &self.cp[i];
-                    for a in 0..4 {
-                        f[d[2 * a]] -= s[a] * res.force.x;
-                        f[d[2 * a + 1]] -= s[a] * res.force.y;
-                    }
-                    f[self.pulley_dof[k]] -= res.torque;
-                    if let Some((c, _)) = jac.as_ref() {
-                        let m = c.stiffness * res.k + c.damping * res.c;
-                        // T maps (element coords, θ) to (r_x, r_y, θ); block −Tᵀ m T
-                        for a in 0..4 {
-                            for b in 0..4 {
-                                let ss = s[a] * s[b];
-                                for i in 0..2 {
-                                    for j in 0..2 {
-                                        blk[(2 * a + i, 2 * b + j)] -= ss * m[(i, j)];
-                                    }
-                                }
-                            }
-                            for i in 0..2 {
-                                blk[(2 * a + i, 8)] -= s[a] * m[(i, 2)];
-                                blk[(8, 2 * a + i)] -= s[a] * m[(2, i)];
-                            }
-                        }
-                        blk[(8, 8)] -= m[(2, 2)];
-                    }
-                }
-                if any && let Some((_, vals)) = jac.as_mut() {
-                    self.contact_blocks.add_matrix(e * np + k, &blk, 1.0, vals);
-                }
-            }
-        }
+        self.add_pulley_residual(t, &mut f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+        self.contact.add_residual(
+            &self.qw,
+            &self.vw,
+            &mut f,
+            jac.as_mut().map(|(c, v)| (*c, &mut **v)),
+        );
         // external: gravity and end loads
         for (fi, g) in f.iter_mut().zip(&self.gravity_full) {
             *fi -= load_factor * g;
@@ -960,59 +669,15 @@ impl BeltDrive {
 
     /// Commits the full state `self.q`, `self.v` at time `t`: contact histories, pulley
     /// results, span tensions and (after a step, `initial` false) the energy book.
-    fn commit(&mut self, t: f64, initial: bool) {
-        let np = self.circles.len();
-        let n_cp = self.cp.len();
+    pub(super) fn commit(&mut self, t: f64, initial: bool) {
         let (mut q, mut v) = (std::mem::take(&mut self.q), std::mem::take(&mut self.v));
         self.prescribe(t, &mut q, &mut v, None);
-        for io in self.io.iter_mut() {
-            io.torque = 0.0;
-            io.force = Vector2::zeros();
+        let book = self.contact.commit(&q, &v, initial);
+        for (io, load) in self.io.iter_mut().zip(self.contact.loads()) {
+            io.torque = load.generalized[0];
+            io.force = load.force;
         }
-        let mut slipping = 0;
-        let (mut contact_energy, mut contact_diss, mut friction_work) = (0.0, 0.0, 0.0);
-        for e in 0..self.n_el {
-            for k in 0..np {
-                let near = self.near(e, k, &q);
-                for i in 0..n_cp {
-                    let idx = (e * n_cp + i) * np + k;
-                    let st = self.point_state(e, i, k, &q, &v);
-                    let h = self.hist[idx];
-                    let res = if near && !initial {
-                        circle_friction::evaluate(
-                            &self.spec.contact,
-                            &self.circles[k],
-                            self.cp_w,
-                            &st,
-                            &h,
-                        )
-                    } else {
-                        None
-                    };
-                    let (z, f) = match res {
-                        Some(r) => {
-                            self.io[k].torque += r.torque;
-                            self.io[k].force -= r.force;
-                            slipping += r.slipping as usize;
-                            contact_energy += r.normal_energy;
-                            contact_diss += r.dissipation;
-                            // work against friction over the step (trapezoidal in the slip)
-                            friction_work +=
-                                self.cp_w * 0.5 * (h.f + r.friction) * r.slip_increment;
-                            (r.z, r.friction)
-                        }
-                        None => (0.0, 0.0),
-                    };
-                    self.hist[idx] = PointHistory {
-                        phi: polar_angle(&self.circles[k], st.r),
-                        theta: st.theta,
-                        z,
-                        f,
-                    };
-                }
-            }
-        }
-        self.slipping_points = slipping;
+        self.slipping_points = book.slipping;
         self.q = q;
         self.v = v;
         // span tensions: average of the axial force in the three elements nearest to the
@@ -1039,105 +704,8 @@ impl BeltDrive {
                     / 3.0
             })
             .collect();
-        if self.spec.track_energy {
-            let mut p_in = 0.0;
-            let mut p_diss = contact_diss;
-            for (k, p) in self.spec.pulleys.iter().enumerate() {
-                let om = self.v[self.pulley_dof[k]];
-                match p.kind {
-                    PulleyKind::Driven => p_in -= self.io[k].torque * om,
-                    PulleyKind::Free { damping, .. } => {
-                        p_in += self.io[k].torque_in.at(t) * om;
-                        p_diss += damping * om * om;
-                    }
-                }
-            }
-            if !self.closed {
-                let last = (self.n_nodes - 1) * NC;
-                p_in += self.end_loads[0].dot(&Vector2::new(self.v[0], self.v[1]))
-                    + self.end_loads[1].dot(&Vector2::new(self.v[last], self.v[last + 1]));
-            }
-            self.set.for_each_state(&self.q, &self.v, None, |_, el, s| {
-                p_diss += el.damping_power_at(s);
-            });
-            let h = t - self.t;
-            if !initial && h > 0.0 {
-                self.energy.input_work += 0.5 * h * (self.energy.p_in + p_in);
-                self.energy.dissipated += 0.5 * h * (self.energy.p_diss + p_diss) + friction_work;
-            }
-            self.energy.p_in = p_in;
-            self.energy.p_diss = p_diss;
-        }
-        self.energy.contact_energy = contact_energy;
+        self.book_energy(t, initial, &book);
         self.t = t;
-    }
-
-    /// Kinetic energy of belt and free pulleys [J] (committed state).
-    pub fn kinetic_energy(&self) -> f64 {
-        self.kinetic_energy_of(&self.v)
-    }
-
-    /// Kinetic energy [J] at full velocities `v`.
-    fn kinetic_energy_of(&self, v: &[f64]) -> f64 {
-        let mut t = 0.0;
-        self.set.for_each_state(&self.q, v, None, |_, el, s| {
-            t += el.kinetic_energy_at(s);
-        });
-        for (k, p) in self.spec.pulleys.iter().enumerate() {
-            if let PulleyKind::Free { inertia, .. } = p.kind {
-                t += 0.5 * inertia * v[self.pulley_dof[k]].powi(2);
-            }
-        }
-        t
-    }
-
-    /// Strain energy of the belt plus the penalty energy of the contact [J].
-    pub fn strain_energy(&self) -> f64 {
-        self.energy.contact_energy + self.belt_strain_energy_of(&self.q)
-    }
-
-    /// Strain energy of the belt elements [J] at full coordinates `q`.
-    fn belt_strain_energy_of(&self, q: &[f64]) -> f64 {
-        self.set.strain_energy(q, None)
-    }
-
-    /// Gravity potential `−Q_gᵀ q` [J].
-    pub fn potential_energy(&self) -> f64 {
-        self.potential_energy_of(&self.q)
-    }
-
-    fn potential_energy_of(&self, q: &[f64]) -> f64 {
-        -self
-            .gravity_full
-            .iter()
-            .zip(q)
-            .map(|(g, q)| g * q)
-            .sum::<f64>()
-    }
-
-    /// Work done by drives, input torques and end loads since the start [J].
-    pub fn input_work(&self) -> f64 {
-        self.energy.input_work
-    }
-
-    /// Energy dissipated since the start [J].
-    pub fn dissipated(&self) -> f64 {
-        self.energy.dissipated
-    }
-
-    /// Torque of the belt on pulley `k` [N m] (committed state).
-    pub fn pulley_torque(&self, k: usize) -> f64 {
-        self.io[k].torque
-    }
-
-    /// Force of the belt on pulley `k` [N].
-    pub fn pulley_force(&self, k: usize) -> Vector2<f64> {
-        self.io[k].force
-    }
-
-    /// Angle and speed of pulley `k` (committed state).
-    pub fn pulley_motion(&self, k: usize) -> (f64, f64) {
-        (self.q[self.pulley_dof[k]], self.v[self.pulley_dof[k]])
     }
 
     /// Belt centre-line point at material fraction `u ∈ [0, 1)` of the loop [m].
@@ -1170,66 +738,6 @@ impl BeltDrive {
             .map(|k| Vector2::new(v[k * NC], v[k * NC + 1]).norm())
             .sum::<f64>()
             / self.n_nodes as f64
-    }
-
-    /// Sets a pulley input (the typed form of `Model::set_input`).
-    pub fn set_pulley_input(&mut self, pulley: usize, quantity: PulleyInput, value: f64) {
-        if quantity == PulleyInput::Angle
-            && self.t0_step.is_none()
-            && self.spec.pulleys[pulley].kind == PulleyKind::Driven
-            && value.is_finite()
-        {
-            let pd = self.pulley_dof[pulley];
-            let turn = value - self.q[pd];
-            let np = self.circles.len();
-            for h in self.hist.iter_mut().skip(pulley).step_by(np) {
-                h.theta += turn;
-            }
-            self.q[pd] = value;
-        }
-        let t = self.t;
-        self.signal(pulley, quantity).set(value, t);
-    }
-
-    /// `1 − ω_last ρ_last / (ω_1 ρ_1)` at full velocities `v`.
-    fn slip_of(&self, v: &[f64]) -> f64 {
-        let last = self.circles.len() - 1;
-        let v1 = v[self.pulley_dof[0]] * self.circles[0].radius;
-        let vn = v[self.pulley_dof[last]] * self.circles[last].radius;
-        if v1.abs() > 1e-12 { 1.0 - vn / v1 } else { 0.0 }
-    }
-
-    /// The signal of a pulley input.
-    fn signal(&mut self, pulley: usize, quantity: PulleyInput) -> &mut InputSignal {
-        let io = &mut self.io[pulley];
-        match quantity {
-            PulleyInput::Angle => &mut io.angle_in,
-            PulleyInput::Omega => &mut io.omega_in,
-            PulleyInput::Torque => &mut io.torque_in,
-        }
-    }
-
-    /// The history-dependent outputs of the committed state.
-    fn history_outputs(&self) -> StepRates {
-        let (tight, slack) = if self.tensions.is_empty() {
-            (0.0, 0.0)
-        } else {
-            (
-                self.output_of(Output::Belt(BeltOutput::TensionTight)),
-                self.output_of(Output::Belt(BeltOutput::TensionSlack)),
-            )
-        };
-        StepRates {
-            pulleys: self
-                .io
-                .iter()
-                .map(|io| [io.torque, io.force.x, io.force.y])
-                .collect(),
-            tight,
-            slack,
-            contact_energy: self.energy.contact_energy,
-            dissipated: self.energy.dissipated,
-        }
     }
 
     /// Time derivative of an output of the committed state. Analytic: pulley angles and
@@ -1388,21 +896,8 @@ impl Model for BeltDrive {
         w.f64(self.t);
         w.f64s(&self.q);
         w.f64s(&self.v);
-        w.u64(self.hist.len() as u64);
-        for h in &self.hist {
-            for x in [h.phi, h.theta, h.z, h.f] {
-                w.f64(x);
-            }
-        }
-        w.u64(self.io.len() as u64);
-        for io in &self.io {
-            for sig in [&io.angle_in, &io.omega_in, &io.torque_in] {
-                sig.save(w);
-            }
-            for x in [io.torque, io.force.x, io.force.y] {
-                w.f64(x);
-            }
-        }
+        self.contact.save(w);
+        self.save_pulleys(w);
         w.f64s(&self.acc);
         w.bool(self.step_rates.is_some());
         if let Some(r) = &self.step_rates {
@@ -1410,16 +905,7 @@ impl Model for BeltDrive {
         }
         w.f64s(&self.tensions);
         w.u64(self.slipping_points as u64);
-        let e = &self.energy;
-        for x in [
-            e.input_work,
-            e.dissipated,
-            e.p_in,
-            e.p_diss,
-            e.contact_energy,
-        ] {
-            w.f64(x);
-        }
+        self.energy.save(w);
         w.bool(self.t0_step.is_some());
         w.f64(self.t0_step.unwrap_or(0.0));
         Ok(())
@@ -1430,27 +916,8 @@ impl Model for BeltDrive {
         let t = r.f64().map_err(e)?;
         r.f64s_into(&mut self.q).map_err(e)?;
         r.f64s_into(&mut self.v).map_err(e)?;
-        if r.u64().map_err(e)? as usize != self.hist.len() {
-            return Err("contact history of another mesh".into());
-        }
-        for h in self.hist.iter_mut() {
-            *h = PointHistory {
-                phi: r.f64().map_err(e)?,
-                theta: r.f64().map_err(e)?,
-                z: r.f64().map_err(e)?,
-                f: r.f64().map_err(e)?,
-            };
-        }
-        if r.u64().map_err(e)? as usize != self.io.len() {
-            return Err("pulleys of another drive".into());
-        }
-        for io in self.io.iter_mut() {
-            io.angle_in = InputSignal::restore(r).map_err(e)?;
-            io.omega_in = InputSignal::restore(r).map_err(e)?;
-            io.torque_in = InputSignal::restore(r).map_err(e)?;
-            io.torque = r.f64().map_err(e)?;
-            io.force = Vector2::new(r.f64().map_err(e)?, r.f64().map_err(e)?);
-        }
+        self.contact.restore(r)?;
+        self.restore_pulleys(r)?;
         r.f64s_into(&mut self.acc).map_err(e)?;
         self.step_rates = if r.bool().map_err(e)? {
             Some(StepRates::restore(r, self.io.len()).map_err(e)?)
@@ -1459,13 +926,7 @@ impl Model for BeltDrive {
         };
         r.f64s_into(&mut self.tensions).map_err(e)?;
         self.slipping_points = r.u64().map_err(e)? as usize;
-        self.energy = EnergyBook {
-            input_work: r.f64().map_err(e)?,
-            dissipated: r.f64().map_err(e)?,
-            p_in: r.f64().map_err(e)?,
-            p_diss: r.f64().map_err(e)?,
-            contact_energy: r.f64().map_err(e)?,
-        };
+        self.energy = EnergyBook::restore(r).map_err(e)?;
         let has_t0 = r.bool().map_err(e)?;
         let t0 = r.f64().map_err(e)?;
         self.t0_step = has_t0.then_some(t0);
@@ -1552,6 +1013,7 @@ impl MechanicalSystem for BeltDrive {
 mod tests {
     use super::*;
     use crate::integrators::GeneralizedAlpha;
+    use crate::kinds::belt_drive::scene::PulleyInput;
     use crate::model::MechanicalSystem;
     use crate::scene::{ParamValues, Scene};
     use crate::solver::newton::Workspace;
