@@ -30,7 +30,24 @@ fn registry_names_are_unique() {
     for k in REGISTRY {
         assert_eq!(kinds::by_name(k.name()).map(|f| f.name()), Some(k.name()));
         assert!(!k.summary().is_empty());
+        for common in ["kind", "fmu", "experiment", "solver"] {
+            assert!(
+                k.tables().contains(&common),
+                "{}: {:?}",
+                k.name(),
+                k.tables()
+            );
+        }
     }
+}
+
+/// The table lists come from the scene structs: spot checks.
+#[test]
+fn kinds_list_their_tables() {
+    let tables = |name: &str| kinds::by_name(name).unwrap().tables();
+    assert!(tables("beam_2d").contains(&"motions") && !tables("beam_2d").contains(&"section"));
+    assert!(tables("beam_3d").contains(&"centreline") && !tables("beam_3d").contains(&"motions"));
+    assert!(tables("belt_drive").contains(&"pulley") && !tables("belt_drive").contains(&"mesh"));
 }
 
 /// Every shipped file (written without the key) reads the same with `kind = "<its kind>"`

@@ -1077,32 +1077,6 @@ fn unknown_tables() {
 /// Top-level tables every kind has.
 const COMMON_TABLES: &[&str] = &["fmu", "experiment", "element", "solver", "gravity"];
 
-/// Top-level tables each kind uses besides [`COMMON_TABLES`] (README, "Shipped scenes" and the
-/// parameter tables). A table of another kind is an error for the kind: issue 9 names
-/// `[[motions]]` and `[initial]` in 3D-beam and belt scenes.
-const KIND_TABLES: &[(&str, &[&str])] = &[
-    (
-        "beam_2d",
-        &[
-            "mesh", "geometry", "material", "supports", "loads", "probes", "motions", "outputs",
-            "initial",
-        ],
-    ),
-    (
-        "beam_3d",
-        &[
-            "mesh",
-            "section",
-            "centreline",
-            "supports",
-            "loads",
-            "probes",
-            "outputs",
-        ],
-    ),
-    ("belt_drive", &["belt", "contact", "pulley", "outputs"]),
-];
-
 /// Every shipped scene with every top-level table of another shipped scene that it lacks: no
 /// panic; a table its kind does not use is rejected naming the table and the kind (or the
 /// donor's kind: `[belt]` may make a beam scene read as a belt drive); any other is accepted or
@@ -1113,11 +1087,9 @@ fn tables_of_other_scenes() {
     let mut failures = BTreeSet::new();
     let mut checks = 0;
     for scene in &scenes {
-        let own = KIND_TABLES
-            .iter()
-            .find(|(k, _)| *k == scene.kind)
-            .unwrap_or_else(|| panic!("KIND_TABLES lacks the kind {:?}", scene.kind))
-            .1;
+        let own = flexfmu::kinds::by_name(&scene.kind)
+            .unwrap_or_else(|| panic!("no kind {:?} in the registry", scene.kind))
+            .tables();
         let root = scene.doc.as_table().unwrap();
         for donor in scenes.iter().filter(|d| d.name != scene.name) {
             for (key, value) in donor.doc.as_table().unwrap() {

@@ -36,6 +36,10 @@ macro_rules! body_kind {
                 $legacy
             }
 
+            fn tables(&self) -> &'static [&'static str] {
+                $crate::scene::table_names::<$tables>()
+            }
+
             fn parse(
                 &self,
                 text: &str,
@@ -120,6 +124,10 @@ pub trait BodyKind: Sync {
     /// tables are this kind's by the old rule (element type, belt tables). At most one kind
     /// answers yes for any file.
     fn claims_legacy(&self, tables: &toml::Table) -> bool;
+
+    /// The top-level keys a scene of this kind may have (its tables, `kind` and the common
+    /// `fmu`, `experiment`, `solver`), from its scene struct.
+    fn tables(&self) -> &'static [&'static str];
 
     /// Parses a scene file of this kind strictly (every key known to the kind, with the right
     /// type) and checks it; errors name the key, its table and the kind.
