@@ -296,6 +296,19 @@ fn rigid_body_inertia_is_exact() {
     }
 }
 
+/// Nodal velocities and accelerations `[ẋ₀, W₀, ẋ₁, W₁]` of a general motion, shared by the
+/// inertia tests.
+fn motion_rates() -> (Vec12, Vec12) {
+    (
+        Vec12::from_column_slice(&[
+            0.3, -0.2, 0.5, 1.5, -0.7, 2.0, -0.1, 0.4, 0.2, -1.0, 0.8, 1.7,
+        ]),
+        Vec12::from_column_slice(&[
+            1.0, 0.5, -0.3, -2.0, 0.6, 0.9, 0.2, -0.8, 0.6, 1.3, -0.4, 0.7,
+        ]),
+    )
+}
+
 /// The kinetic energy is ½ vᵀ M v, and the inertia force is consistent with it: its power
 /// equals dT/dt along a motion (checked with central differences in time), which tests
 /// the convective terms.
@@ -304,12 +317,7 @@ fn inertia_force_power_is_kinetic_energy_rate() {
     for mass in [MassModel::Lumped, MassModel::Consistent] {
         let (el, n0) = element(Theory::EulerBernoulli, mass);
         let n = deformed(&n0);
-        let vv = Vec12::from_column_slice(&[
-            0.3, -0.2, 0.5, 1.5, -0.7, 2.0, -0.1, 0.4, 0.2, -1.0, 0.8, 1.7,
-        ]);
-        let av = Vec12::from_column_slice(&[
-            1.0, 0.5, -0.3, -2.0, 0.6, 0.9, 0.2, -0.8, 0.6, 1.3, -0.4, 0.7,
-        ]);
+        let (vv, av) = motion_rates();
         let (v, a) = (Rates::from_vec(&vv), Rates::from_vec(&av));
         let mm = el.mass_matrix(&n);
         let t = el.kinetic_energy(&n, &v);
@@ -346,12 +354,7 @@ fn inertia_force_matches_lagrange_equations() {
     for mass in [MassModel::Lumped, MassModel::Consistent] {
         let (el, n0) = element(Theory::Timoshenko, mass);
         let n = deformed(&n0);
-        let vv = Vec12::from_column_slice(&[
-            0.3, -0.2, 0.5, 1.5, -0.7, 2.0, -0.1, 0.4, 0.2, -1.0, 0.8, 1.7,
-        ]);
-        let av = Vec12::from_column_slice(&[
-            1.0, 0.5, -0.3, -2.0, 0.6, 0.9, 0.2, -0.8, 0.6, 1.3, -0.4, 0.7,
-        ]);
+        let (vv, av) = motion_rates();
         let (v, a) = (Rates::from_vec(&vv), Rates::from_vec(&av));
         let mut f = Vec12::zeros();
         el.inertia_force(&n, &v, &a, &Vector3::zeros(), &mut f, None);
