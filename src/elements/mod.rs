@@ -17,6 +17,8 @@ pub mod material;
 pub mod node_frames;
 pub mod quadrature;
 pub mod rotation;
+pub mod surface_load;
+pub mod trapezoid_shell;
 
 #[cfg(test)]
 mod tests;
