@@ -65,7 +65,11 @@ pub struct TrapezoidShell {}
 impl TrapezoidShell {
     /// An element on four reference nodes, counter-clockwise about the element normal
     /// `(x3 - x1) x (x4 - x2)`. Errors for degenerate or non-convex quadrilaterals.
-    pub fn new(x: [Vector3<f64>; 4], mat: &ShellMaterial, opt: &ShellOptions) -> Result<Self, String> {
+    pub fn new(
+        x: [Vector3<f64>; 4],
+        mat: &ShellMaterial,
+        opt: &ShellOptions,
+    ) -> Result<Self, String> {
         todo!()
     }
     /// Reference area [m2].

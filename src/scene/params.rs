@@ -2,7 +2,7 @@
 //! values) and their validation, shared by the CLI and the FMU. Each scene kind declares its
 //! own parameters (e.g. [`super::beam2d`]); the solver and gravity parameters are common.
 
-use super::tables::{Choice, Gravity2d, Gravity3d, SolverSection};
+use super::tables::{Choice, Gravity2d, Gravity3d, MaterialSection, SolverSection};
 use crate::units::Unit;
 use crate::variables::{Value, VarType};
 use std::collections::BTreeMap;
@@ -234,6 +234,35 @@ pub fn describe(table: &[(&str, i32)]) -> String {
 /// An Integer from a TOML integer; the error names the key.
 pub fn int_param(v: i64, key: &str) -> Result<i32, String> {
     i32::try_from(v).map_err(|_| format!("{key}: {v} does not fit a 32-bit Integer"))
+}
+
+/// The parameters `material.E` [Pa], `material.nu` [1] (in (−1, 0.5)) and `material.rho`
+/// [kg/m3] of an isotropic elastic material.
+pub fn material_params(m: &MaterialSection) -> Vec<ParamDef> {
+    let real = Value::Real;
+    vec![
+        ParamDef::new(
+            MATERIAL_E,
+            real(m.E),
+            Some(Unit::Pa),
+            "Young's modulus",
+            Check::Positive,
+        ),
+        ParamDef::new(
+            MATERIAL_NU,
+            real(m.nu),
+            Some(Unit::One),
+            "Poisson's ratio, in (-1, 0.5)",
+            Check::Open(-1.0, 0.5),
+        ),
+        ParamDef::new(
+            MATERIAL_RHO,
+            real(m.rho),
+            Some(Unit::KgPerM3),
+            "Density",
+            Check::Positive,
+        ),
+    ]
 }
 
 /// Gravity parameters `gravity.x`, `gravity.y` of a planar scene with a `[gravity]` table.

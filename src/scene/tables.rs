@@ -17,6 +17,19 @@ pub struct InitialSection {
     pub angular_velocity: f64,
 }
 
+/// `[material]`
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+pub struct MaterialSection {
+    /// Young's modulus [Pa].
+    pub E: f64,
+    /// Poisson's ratio [1].
+    pub nu: f64,
+    /// Density [kg/m3].
+    pub rho: f64,
+}
+
 /// `[fmu]`
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]

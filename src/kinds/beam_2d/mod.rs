@@ -7,8 +7,8 @@ pub mod scene;
 
 use super::{legacy_element_type, legacy_has_belt};
 use crate::scene::tables::{
-    EnergyOutputs, ExperimentSection, FmuSection, Gravity2d, InitialSection, MeshSection,
-    MotionSpec, ProbeSpec, SolverSection, SupportSpec,
+    EnergyOutputs, ExperimentSection, FmuSection, Gravity2d, InitialSection, MaterialSection,
+    MeshSection, MotionSpec, ProbeSpec, SolverSection, SupportSpec,
 };
 use model::Beam2d;
 use serde::Deserialize;
@@ -135,19 +135,6 @@ pub struct GeometrySection {
     /// Direction of the axis, counter-clockwise from +x [deg] (not a parameter).
     #[serde(default)]
     pub angle_deg: f64,
-}
-
-/// `[material]`
-#[derive(Clone, Debug, Deserialize, serde::Serialize)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-pub struct MaterialSection {
-    /// Young's modulus [Pa].
-    pub E: f64,
-    /// Poisson's ratio [1].
-    pub nu: f64,
-    /// Density [kg/m3].
-    pub rho: f64,
 }
 
 /// `[[loads]]`: a fixed-direction force input at a point of the centre line.

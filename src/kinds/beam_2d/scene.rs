@@ -4,7 +4,9 @@
 use super::Beam2dScene;
 use crate::kinds::KindIo;
 use crate::kinds::energy::{BODY_ENERGIES, EnergyKind, declare_energy_outputs};
-use crate::scene::params::{Check, ParamDef, gravity_params_2d, int_param, names::*};
+use crate::scene::params::{
+    Check, ParamDef, gravity_params_2d, int_param, material_params, names::*,
+};
 use crate::scene::tables::{ProbeQuantity, SupportKind};
 use crate::scene::validate::{check_fraction, check_identifier, reject_repeated};
 use crate::units::Unit;
@@ -111,28 +113,8 @@ pub fn check(s: &Beam2dScene) -> Result<(), Vec<String>> {
 pub fn params(s: &Beam2dScene) -> Result<Vec<ParamDef>, String> {
     let (m, g, mesh) = (&s.material, &s.geometry, &s.mesh);
     let real = |v: f64| Value::Real(v);
-    let mut defs = vec![
-        ParamDef::new(
-            MATERIAL_E,
-            real(m.E),
-            Some(Unit::Pa),
-            "Young's modulus",
-            Check::Positive,
-        ),
-        ParamDef::new(
-            MATERIAL_NU,
-            real(m.nu),
-            Some(Unit::One),
-            "Poisson's ratio, in (-1, 0.5)",
-            Check::Open(-1.0, 0.5),
-        ),
-        ParamDef::new(
-            MATERIAL_RHO,
-            real(m.rho),
-            Some(Unit::KgPerM3),
-            "Density",
-            Check::Positive,
-        ),
+    let mut defs = material_params(m);
+    defs.extend([
         ParamDef::new(
             GEOMETRY_LENGTH,
             real(g.length),
@@ -182,7 +164,7 @@ pub fn params(s: &Beam2dScene) -> Result<Vec<ParamDef>, String> {
             "Shear correction factor k_s of Eq. 12",
             Check::Positive,
         ),
-    ];
+    ]);
     if let Some(init) = &s.initial {
         defs.push(ParamDef::new(
             INITIAL_ANGULAR_VELOCITY,

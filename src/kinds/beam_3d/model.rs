@@ -25,7 +25,6 @@ use crate::elements::corotational3d::{
     BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Theory, reference_frame,
 };
 use crate::elements::node_frames::NodeFrames;
-use crate::elements::rotation::{skew, tangent_spatial_inv};
 use crate::integrators::DynState;
 use crate::kinds::KindIo;
 use crate::kinds::beam_3d::scene::{Input, Output, io, names::*};
@@ -35,12 +34,13 @@ use crate::linalg::CscPattern;
 use crate::meshers::centreline::{Piece, mesh_centreline};
 use crate::meshers::stations::Stations;
 use crate::model::inputs::InputSignal;
+use crate::model::nodes3d::{NodeLoad, NodeMotion};
 use crate::model::rates;
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::{ParamValues, names::*};
-use crate::scene::tables::{ProbeQuantity, SupportKind};
+use crate::scene::tables::SupportKind;
 use crate::snapshot::{StateReader, StateWriter};
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
 /// Reference nodes of a centre line and the section frame of every element.
 #[derive(Clone, Debug)]
@@ -104,16 +104,6 @@ fn mesh(c: &CentrelineSection, n_el: usize) -> Result<Mesh, String> {
         stations: line.stations,
         frames,
     })
-}
-
-/// A point load at a node.
-#[derive(Clone, Copy, Debug)]
-struct NodeLoad {
-    node: usize,
-    /// `[fx, fy, fz, mx, my, mz]` [N, N m] as signals of time (extrapolated inside a
-    /// communication step with the derivatives of `fmi2SetRealInputDerivatives`).
-    values: [InputSignal; 6],
-    follower: bool,
 }
 
 /// A probe at a node.
@@ -229,11 +219,11 @@ impl Beam3d {
         let set = ElementSet::new(elements, connectivity, &asm).with_frames(&frames);
         let mut loads = Vec::with_capacity(scene.loads.len());
         for (i, l) in scene.loads.iter().enumerate() {
-            loads.push(NodeLoad {
-                node: node_at(format!("loads[{i}]"), l.at)?,
-                values: [l.fx, l.fy, l.fz, l.mx, l.my, l.mz].map(InputSignal::constant),
-                follower: l.follower,
-            });
+            loads.push(NodeLoad::at_node(
+                node_at(format!("loads[{i}]"), l.at)?,
+                [l.fx, l.fy, l.fz, l.mx, l.my, l.mz],
+                l.follower,
+            ));
         }
         let mut probes = Vec::with_capacity(scene.probes.len());
         for (i, pr) in scene.probes.iter().enumerate() {
@@ -356,25 +346,7 @@ impl Beam3d {
         match kind {
             Output::Probe { probe, quantity } => {
                 let p = &self.probes[probe];
-                let b = p.node * NODE_DOFS;
-                let r = self.node_rotation(p.node);
-                let omega = r * self.node_angular_velocity(p.node);
-                let v3 = |x: &[f64], i: usize| Vector3::new(x[i], x[i + 1], x[i + 2]);
-                use ProbeQuantity::*;
-                let (vec, axis) = match quantity {
-                    X | Y | Z => (v3(&self.v, b), [X, Y, Z]),
-                    Vx | Vy | Vz => (v3(&self.acc, b), [Vx, Vy, Vz]),
-                    Wx | Wy | Wz => (r * v3(&self.acc, b + 3), [Wx, Wy, Wz]),
-                    Tx | Ty | Tz => (omega.cross(&(r * p.tangent)), [Tx, Ty, Tz]),
-                    Rx | Ry | Rz => {
-                        let phi = UnitQuaternion::from_matrix(&r).scaled_axis();
-                        if phi.norm() > std::f64::consts::PI - 1e-6 {
-                            return None;
-                        }
-                        (tangent_spatial_inv(&phi) * omega, [Rx, Ry, Rz])
-                    }
-                };
-                Some(vec[axis.iter().position(|x| *x == quantity).unwrap_or(0)])
+                self.motion().probe_rate(p.node, quantity, Some(&p.tangent))
             }
             Output::Energy(k) => Some(match k {
                 EnergyKind::Kinetic => energy(&|q, v| self.kinetic_energy_at(q, v)),
@@ -386,6 +358,16 @@ impl Beam3d {
                         + self.strain_energy_at(q)
                 }),
             }),
+        }
+    }
+
+    /// The committed motion of the nodes (for probes).
+    fn motion(&self) -> NodeMotion<'_> {
+        NodeMotion {
+            q: &self.q,
+            v: &self.v,
+            acc: &self.acc,
+            frames: &self.frames,
         }
     }
 
@@ -429,38 +411,7 @@ impl Beam3d {
         match kind {
             Output::Probe { probe, quantity } => {
                 let p = &self.probes[probe];
-                let b = p.node * NODE_DOFS;
-                let r = || self.node_rotation(p.node);
-                use ProbeQuantity::*;
-                match quantity {
-                    X => self.q[b],
-                    Y => self.q[b + 1],
-                    Z => self.q[b + 2],
-                    Vx => self.v[b],
-                    Vy => self.v[b + 1],
-                    Vz => self.v[b + 2],
-                    Rx | Ry | Rz => {
-                        let rv = UnitQuaternion::from_matrix(&r()).scaled_axis();
-                        rv[[Rx, Ry, Rz]
-                            .iter()
-                            .position(|x| *x == quantity)
-                            .unwrap_or(0)]
-                    }
-                    Tx | Ty | Tz => {
-                        let t = r() * p.tangent;
-                        t[[Tx, Ty, Tz]
-                            .iter()
-                            .position(|x| *x == quantity)
-                            .unwrap_or(0)]
-                    }
-                    Wx | Wy | Wz => {
-                        let w = r() * self.node_angular_velocity(p.node);
-                        w[[Wx, Wy, Wz]
-                            .iter()
-                            .position(|x| *x == quantity)
-                            .unwrap_or(0)]
-                    }
-                }
+                self.motion().probe(p.node, quantity, Some(&p.tangent))
             }
             Output::Energy(k) => match k {
                 EnergyKind::Kinetic => self.kinetic_energy(),
@@ -505,34 +456,8 @@ impl Beam3d {
             .add_residual(&x, Some(&mut self.frames), &mut fw, elem_jac);
         let frames = self.frames.current();
         for l in &self.loads {
-            let b = l.node * NODE_DOFS;
-            let rot = &frames[l.node].rot;
-            let at = |i: usize| l.values[i].at(t) * lambda;
-            let force = Vector3::new(at(0), at(1), at(2));
-            let moment = Vector3::new(at(3), at(4), at(5));
-            // Residual −f_ext; `blk` = ∂(−f_ext)/∂W (body spin) for the rows x or θ.
-            let (fx, mb, blk, rows) = if l.follower {
-                let fx = rot * force;
-                (fx, moment, rot * skew(&force), 0)
-            } else {
-                let mb = rot.transpose() * moment;
-                (force, mb, -skew(&mb), 3)
-            };
-            for c in 0..3 {
-                fw[b + c] -= fx[c];
-                fw[b + 3 + c] -= mb[c];
-            }
-            if let Some((c, vals)) = jac.as_mut()
-                && (force != Vector3::zeros() && l.follower
-                    || moment != Vector3::zeros() && !l.follower)
-            {
-                let d = blk * frames[l.node].tangent * (c.stiffness * k_scale);
-                for i in 0..3 {
-                    for j in 0..3 {
-                        self.asm.add_entry(b + rows + i, b + 3 + j, d[(i, j)], vals);
-                    }
-                }
-            }
+            let jac = jac.as_mut().map(|(c, vals)| (&*c, k_scale, &mut **vals));
+            l.add_residual(t, lambda, frames, &mut fw, &self.asm, jac);
         }
         self.asm.dofs.restrict(&fw, r);
         self.fw = fw;
@@ -632,8 +557,8 @@ impl Model for Beam3d {
         w.f64s(&self.v);
         w.f64s(&self.acc);
         self.frames.save(w);
-        for sig in self.loads.iter().flat_map(|l| &l.values) {
-            sig.save(w);
+        for l in &self.loads {
+            l.save(w);
         }
         Ok(())
     }
@@ -645,8 +570,8 @@ impl Model for Beam3d {
         r.f64s_into(&mut self.v).map_err(e)?;
         r.f64s_into(&mut self.acc).map_err(e)?;
         self.frames.restore(r)?;
-        for sig in self.loads.iter_mut().flat_map(|l| &mut l.values) {
-            *sig = InputSignal::restore(r).map_err(e)?;
+        for l in &mut self.loads {
+            l.restore(r).map_err(e)?;
         }
         Ok(())
     }
