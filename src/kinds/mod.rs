@@ -81,6 +81,7 @@ pub mod beam_2d;
 pub mod beam_3d;
 pub mod belt_drive;
 pub mod energy;
+pub mod shell;
 
 use crate::model::Model;
 use crate::scene::ParamDef;
@@ -96,6 +97,7 @@ pub static REGISTRY: &[&dyn BodyKind] = &[
     &beam_2d::Beam2dKind,
     &beam_3d::Beam3dKind,
     &belt_drive::BeltDriveKind,
+    &shell::ShellKind,
 ];
 
 /// The kind named `name` (the scene key `kind = "..."`).

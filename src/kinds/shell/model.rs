@@ -1,0 +1,813 @@
+//! A shell of seed-004 trapezoidal elements ([`TrapezoidShell`], Pogorelov & Rodikov 2021):
+//! a flat plate ([`PlateMesh`]) or a surface of revolution ([`RevolutionMesh`]), with
+//! supports, point and line loads, a uniform follower pressure ([`pressure_into`]), gravity,
+//! probes, ring outputs, the enclosed volume ([`volume_part`]) and energies.
+//!
+//! **Coordinates.** Per node `[x, y, z, θx, θy, θz]`: the absolute position [m] and an
+//! incremental rotation vector θ [rad] from the node's stored orientation (a unit quaternion,
+//! [`NodeFrames`]), absorbed after every accepted step and every converged load increment,
+//! exactly as in the 3D beam (see [`crate::kinds::beam_3d::model`]): the shared additive
+//! integrators then act as Lie-group schemes. Velocities are `[ẋ, Ω]` with the body angular
+//! velocity `Ω`.
+//!
+//! **Residual.** `r = M a + f_int(q) − Q_g − λ (f_loads + f_pressure(q))`: force rows in global
+//! components, moment rows in body components. The pressure `p` acts on every element as the
+//! follower load `f_i = p ∫ N_i (x_ξ × x_η) dξ dη` of the bilinear patch through its four nodes,
+//! with its exact tangent (not symmetric) in the iteration matrix.
+
+use super::scene::{Input, Output, io, names::*, support_param};
+use super::{MeridianSection, RingAt, RingQuantity, ShellScene, SupportCondition};
+use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
+use crate::elements::node_frames::NodeFrames;
+use crate::elements::surface_load::{pressure_into, volume_part};
+use crate::elements::trapezoid_shell::{
+    Bending, ELEMENT_DOFS, NODE_DOFS, ShellMaterial, ShellOptions, TrapezoidShell,
+};
+use crate::integrators::DynState;
+use crate::kinds::KindIo;
+use crate::kinds::energy::EnergyKind;
+use crate::linalg::CscPattern;
+use crate::meshers::plate::{PlateEdge, PlateMesh, line_weights, node_at_point};
+use crate::meshers::revolution::{MeridianPiece, RevolutionMesh};
+use crate::model::inputs::InputSignal;
+use crate::model::nodes3d::{NodeLoad, NodeMotion};
+use crate::model::rates;
+use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
+use crate::scene::params::{ParamValues, names::*};
+use crate::snapshot::{StateReader, StateWriter};
+use crate::variables::Value;
+use nalgebra::{SMatrix, SVector, Vector2, Vector3};
+
+/// The reference mesh of either geometry: nodes, elements (counter-clockwise about their
+/// normal), rings of a surface of revolution with their arc lengths, and what names the mesh
+/// in messages.
+#[derive(Clone, Debug)]
+struct Geometry {
+    nodes: Vec<Vector3<f64>>,
+    elements: Vec<[usize; 4]>,
+    /// `(arc length [m], nodes)` of every ring, in meridian order (empty for a plate).
+    rings: Vec<(f64, Vec<usize>)>,
+    /// The plate mesh (edges), if a plate.
+    plate: Option<PlateMesh>,
+    /// Whether the plate is a rectangle (all elements equal).
+    rectangle: bool,
+    /// Scene keys and parameters the nodes follow from.
+    keys: &'static str,
+}
+
+const PLATE_KEYS: &str = "plate.length_x, plate.length_y, plate.width_top, mesh.n_x and mesh.n_y";
+const REVOLUTION_KEYS: &str =
+    "meridian.start, meridian.pieces, mesh.n_circumferential and mesh.n_meridional";
+
+fn meridian_pieces(m: &MeridianSection) -> Result<Vec<MeridianPiece>, String> {
+    m.pieces
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let direction = p.direction.map(|d| Vector2::new(d[0], d[1]));
+            match (p.length, p.radius, p.angle_deg) {
+                (Some(length), ..) => Ok(MeridianPiece::Line { direction, length }),
+                (None, Some(radius), Some(a)) => Ok(MeridianPiece::Arc {
+                    direction,
+                    radius,
+                    angle: a.to_radians(),
+                }),
+                _ => Err(format!("meridian.pieces[{i}]: incomplete piece")),
+            }
+        })
+        .collect()
+}
+
+fn count(p: &ParamValues, name: &str) -> usize {
+    p.integer(name).max(0) as usize
+}
+
+/// The mesh of a scene with the parameter values `p`.
+fn geometry(scene: &ShellScene, p: &ParamValues) -> Result<Geometry, String> {
+    if let Some(pl) = &scene.plate {
+        let (n_x, n_y) = (count(p, MESH_N_X), count(p, MESH_N_Y));
+        if (n_x as i64) * (n_y as i64) > super::scene::MAX_ELEMENTS {
+            return Err(format!(
+                "{MESH_N_X} = {n_x}, {MESH_N_Y} = {n_y}: {} elements, at most {}",
+                n_x * n_y,
+                super::scene::MAX_ELEMENTS
+            ));
+        }
+        let mesh = PlateMesh::new(pl.length_x, pl.length_y, pl.width_top, n_x, n_y)?;
+        return Ok(Geometry {
+            nodes: mesh.nodes.clone(),
+            elements: mesh.elements.clone(),
+            rings: vec![],
+            rectangle: pl.width_top.is_none_or(|w| w == pl.length_x),
+            plate: Some(mesh),
+            keys: PLATE_KEYS,
+        });
+    }
+    let mer = scene
+        .meridian
+        .as_ref()
+        .ok_or("plate, meridian: give [plate] or [meridian]")?;
+    let (n_c, n_m) = (
+        count(p, MESH_N_CIRCUMFERENTIAL),
+        count(p, MESH_N_MERIDIONAL),
+    );
+    if (n_c as i64) * (n_m as i64) > super::scene::MAX_ELEMENTS {
+        return Err(format!(
+            "{MESH_N_CIRCUMFERENTIAL} = {n_c}, {MESH_N_MERIDIONAL} = {n_m}: {} elements, at most {}",
+            n_c * n_m,
+            super::scene::MAX_ELEMENTS
+        ));
+    }
+    let mesh = RevolutionMesh::new(
+        Vector2::new(mer.start[0], mer.start[1]),
+        &meridian_pieces(mer)?,
+        n_c,
+        n_m,
+        "meridian.pieces",
+    )?;
+    let arcs = mesh.meridian.stations.arc_lengths();
+    let rings = arcs
+        .iter()
+        .enumerate()
+        .map(|(j, &s)| (s, (j * n_c..(j + 1) * n_c).collect()))
+        .collect();
+    Ok(Geometry {
+        nodes: mesh.nodes,
+        elements: mesh.elements,
+        rings,
+        plate: None,
+        rectangle: false,
+        keys: REVOLUTION_KEYS,
+    })
+}
+
+impl Geometry {
+    /// The node at the point `at` (2 or 3 numbers) of the scene entry `key`.
+    fn node_at(&self, key: &str, at: &[f64]) -> Result<usize, String> {
+        let p = Vector3::new(at[0], at[1], at.get(2).copied().unwrap_or(0.0));
+        node_at_point(&self.nodes, &p, key, self.keys)
+    }
+
+    /// The ring `ring` of the scene entry `key`.
+    fn ring(&self, key: &str, ring: &RingAt) -> Result<&[usize], String> {
+        let last = self.rings.len().saturating_sub(1);
+        let j = match ring {
+            RingAt::Name(n) if n == "first" => 0,
+            RingAt::Name(n) if n == "last" => last,
+            RingAt::Name(n) => {
+                return Err(format!(
+                    "{key}.ring = \"{n}\": give \"first\", \"last\" or an arc length [m]"
+                ));
+            }
+            RingAt::Arc(s) => {
+                let total = self.rings[last].0;
+                let (j, d) = self
+                    .rings
+                    .iter()
+                    .enumerate()
+                    .map(|(j, r)| (j, (r.0 - s).abs()))
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .unwrap_or((0, f64::INFINITY));
+                if d > 1e-6 * total {
+                    return Err(format!(
+                        "{key}.ring = {s}: no ring at that arc length of the meridian (total {total} m; the nearest ring is at {} m; the rings follow from {})",
+                        self.rings[j].0, self.keys
+                    ));
+                }
+                j
+            }
+        };
+        Ok(&self.rings[j].1)
+    }
+
+    /// Whether every element side is shared by exactly two elements (a closed surface).
+    fn closed(&self) -> bool {
+        let mut sides = std::collections::BTreeMap::new();
+        for el in &self.elements {
+            for i in 0..4 {
+                let (a, b) = (el[i], el[(i + 1) % 4]);
+                *sides.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        sides.values().all(|&c| c == 2)
+    }
+
+    /// Nodes on the z axis (poles of a closed surface of revolution).
+    fn poles(&self) -> Vec<usize> {
+        let extent = self.nodes.iter().map(|x| x.norm()).fold(0.0, f64::max);
+        (0..self.nodes.len())
+            .filter(|&k| self.nodes[k].xy().norm() <= 1e-9 * extent)
+            .collect()
+    }
+}
+
+/// Whether the constrained coordinates remove every rigid motion: the six rigid modes
+/// (translations; rotations about the centroid, positions scaled by the extent) restricted to
+/// the constrained coordinates have full rank.
+fn holds_rigid_motion(nodes: &[Vector3<f64>], constrained: &[bool]) -> bool {
+    let c = nodes.iter().sum::<Vector3<f64>>() / nodes.len().max(1) as f64;
+    let extent = nodes
+        .iter()
+        .map(|x| (x - c).norm())
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let mut g = SMatrix::<f64, 6, 6>::zeros();
+    for (k, x) in nodes.iter().enumerate() {
+        let r = (x - c) / extent;
+        for d in 0..NODE_DOFS {
+            if !constrained[k * NODE_DOFS + d] {
+                continue;
+            }
+            let mut m = SVector::<f64, 6>::zeros();
+            if d < 3 {
+                m[d] = 1.0;
+                // rotation about axis a moves the position by e_a × r: component d
+                for a in 0..3 {
+                    m[3 + a] = Vector3::ith(a, 1.0).cross(&r)[d];
+                }
+            } else {
+                m[d] = 1.0;
+            }
+            g += m * m.transpose();
+        }
+    }
+    let ev = g.symmetric_eigenvalues();
+    ev.min() > 1e-10 * ev.max().max(f64::MIN_POSITIVE)
+}
+
+/// A probe at a node.
+#[derive(Clone, Copy, Debug)]
+struct Probe {
+    node: usize,
+}
+
+/// The seed-004 shell model.
+#[derive(Clone, Debug)]
+pub struct Shell {
+    set: ElementSet<TrapezoidShell, ELEMENT_DOFS>,
+    /// Position coordinates of every element (12), for the pressure.
+    positions: Connectivity<12>,
+    /// Stored orientations of the nodes.
+    frames: NodeFrames,
+    asm: Assembly,
+    gravity: Vector3<f64>,
+    /// Gravity load of the reference (constant: the element's gravity is) [N], full vector.
+    gravity_load: Vec<f64>,
+    loads: Vec<NodeLoad>,
+    pressure: InputSignal,
+    /// `+1`, or `−1` where a closed surface's element normals point inwards: the pressure and
+    /// the volume are taken along the outward normal.
+    orientation: f64,
+    probes: Vec<Probe>,
+    /// Nodes of every ring probe.
+    ring_probes: Vec<Vec<usize>>,
+    /// Nodes of the first and last rings, and the two poles of a closed surface.
+    ends: (Vec<usize>, Vec<usize>),
+    poles: Option<(usize, usize)>,
+    n_nodes: usize,
+    scales: Vec<f64>,
+    // committed state
+    t: f64,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    acc: Vec<f64>,
+    // work buffers
+    qw: Vec<f64>,
+    vw: Vec<f64>,
+    aw: Vec<f64>,
+    fw: Vec<f64>,
+    qmid: Vec<f64>,
+    roles: KindIo<Input, Output>,
+}
+
+impl Shell {
+    /// Builds the model of a scene with the given parameter values (already validated).
+    /// Errors name the scene key or parameter at fault.
+    pub fn build(scene: &ShellScene, p: &ParamValues) -> Result<Self, String> {
+        let geo = geometry(scene, p)?;
+        let mat = ShellMaterial {
+            e: p.real(MATERIAL_E),
+            nu: p.real(MATERIAL_NU),
+            rho: p.real(MATERIAL_RHO),
+            thickness: p.real(SHELL_THICKNESS),
+        };
+        let opt = ShellOptions {
+            bending: match p.integer(ELEMENT_BENDING) {
+                1 => Bending::V1,
+                _ => Bending::V2,
+            },
+            drilling: p.real(ELEMENT_DRILLING_STIFFNESS),
+            geometric_stiffness: p.boolean(ELEMENT_GEOMETRIC_STIFFNESS),
+        };
+        let gravity = Vector3::new(
+            p.get(GRAVITY_X).map_or(0.0, |_| p.real(GRAVITY_X)),
+            p.get(GRAVITY_Y).map_or(0.0, |_| p.real(GRAVITY_Y)),
+            p.get(GRAVITY_Z).map_or(0.0, |_| p.real(GRAVITY_Z)),
+        );
+        let n_nodes = geo.nodes.len();
+        let n_full = n_nodes * NODE_DOFS;
+        // supports
+        let mut constrained = vec![false; n_full];
+        let mut fix = |nodes: &[usize], c: SupportCondition| {
+            for &k in nodes {
+                for d in 0..c.n_fixed() {
+                    constrained[k * NODE_DOFS + d] = true;
+                }
+            }
+        };
+        if let Some(plate) = &geo.plate {
+            for e in PlateEdge::ALL {
+                let c = SupportCondition::from_code(p.integer(support_param(e)));
+                fix(&plate.edge_nodes(e), c);
+            }
+        }
+        for (i, r) in scene.ring_supports.iter().enumerate() {
+            fix(geo.ring(&format!("ring_supports[{i}]"), &r.ring)?, r.kind);
+        }
+        for (i, s) in scene.point_supports.iter().enumerate() {
+            fix(
+                &[geo.node_at(&format!("point_supports[{i}]"), &s.at)?],
+                s.kind,
+            );
+        }
+        let statics = matches!(p.get(SOLVER_STATIC), Some(Value::Boolean(true)));
+        if statics && !holds_rigid_motion(&geo.nodes, &constrained) {
+            return Err(format!(
+                "{SOLVER_STATIC} = true: the supports leave the shell free to move as a rigid body, so there is no static equilibrium; fix more (support.x0 ... support.y1 of a plate, ring_supports, point_supports) or set {SOLVER_STATIC} = false (the dynamic problem may be free)"
+            ));
+        }
+        let dofs = DofMap::new(&constrained);
+        if dofs.n_free() == 0 {
+            return Err("the supports fix every coordinate: nothing left to simulate".into());
+        }
+        let connectivity: Vec<[usize; ELEMENT_DOFS]> = geo
+            .elements
+            .iter()
+            .map(|el| std::array::from_fn(|i| el[i / NODE_DOFS] * NODE_DOFS + i % NODE_DOFS))
+            .collect();
+        let asm = Assembly::new(dofs, &[(ELEMENT_DOFS, connectivity.as_flattened())], &[]);
+        let make = |e: usize| {
+            let x = geo.elements[e].map(|k| geo.nodes[k]);
+            TrapezoidShell::new(x, &mat, &opt).map_err(|err| {
+                format!(
+                    "element {e}: {err} (the geometry follows from {}; the material from {MATERIAL_E}, {MATERIAL_NU}, {MATERIAL_RHO}, {SHELL_THICKNESS})",
+                    geo.keys
+                )
+            })
+        };
+        let elements: Vec<TrapezoidShell> = if geo.rectangle {
+            vec![make(0)?]
+        } else {
+            (0..geo.elements.len())
+                .map(make)
+                .collect::<Result<_, _>>()?
+        };
+        let frames = NodeFrames::new((0..n_nodes).map(|k| k * NODE_DOFS + 3).collect());
+        let positions = Connectivity::new(
+            connectivity
+                .iter()
+                .map(|d| std::array::from_fn(|i| d[(i / 3) * NODE_DOFS + i % 3]))
+                .collect(),
+            &asm,
+        );
+        let set = ElementSet::new(elements, connectivity, &asm).with_frames(&frames);
+        // loads
+        let mut loads = Vec::with_capacity(scene.loads.len() + scene.line_loads.len());
+        for (i, l) in scene.loads.iter().enumerate() {
+            let k = geo.node_at(&format!("loads[{i}]"), &l.at)?;
+            loads.push(NodeLoad::at_node(k, l.start(), false));
+        }
+        for (i, l) in scene.line_loads.iter().enumerate() {
+            let key = format!("line_loads[{i}]");
+            let (nodes, closed) = match (&l.edge, &l.ring, &geo.plate) {
+                (Some(e), _, Some(plate)) => (plate.edge_nodes(*e), false),
+                (_, Some(r), None) => (geo.ring(&key, r)?.to_vec(), true),
+                _ => {
+                    return Err(format!(
+                        "{key}: an edge of a plate or a ring of a surface of revolution"
+                    ));
+                }
+            };
+            let pts: Vec<_> = nodes.iter().map(|&k| geo.nodes[k]).collect();
+            let w = line_weights(&pts, closed);
+            loads.push(NodeLoad::spread(
+                nodes.into_iter().zip(w).collect(),
+                l.start(),
+                false,
+            ));
+        }
+        let mut probes = Vec::with_capacity(scene.probes.len());
+        for (i, pr) in scene.probes.iter().enumerate() {
+            probes.push(Probe {
+                node: geo.node_at(&format!("probes[{i}]"), &pr.at)?,
+            });
+        }
+        let mut ring_probes = Vec::with_capacity(scene.ring_probes.len());
+        for (i, rp) in scene.ring_probes.iter().enumerate() {
+            ring_probes.push(geo.ring(&format!("ring_probes[{i}]"), &rp.ring)?.to_vec());
+        }
+        let closed = geo.closed();
+        if scene.outputs.volume && !closed {
+            return Err(format!(
+                "outputs.volume: the surface is not closed (the meridian of {} must start and end on the z axis), so it encloses no volume",
+                geo.keys
+            ));
+        }
+        let poles = geo.poles();
+        let poles = (closed && poles.len() == 2).then(|| (poles[0], poles[1]));
+        let ends = match (geo.rings.first(), geo.rings.last()) {
+            (Some(a), Some(b)) => (a.1.clone(), b.1.clone()),
+            _ => (vec![], vec![]),
+        };
+        let mut q0 = vec![0.0; n_full];
+        for (k, x) in geo.nodes.iter().enumerate() {
+            q0[k * NODE_DOFS..k * NODE_DOFS + 3].copy_from_slice(x.as_slice());
+        }
+        let extent = geo.nodes.iter().map(|x| x.norm()).fold(0.0, f64::max);
+        let scale = if extent > 0.0 { extent } else { 1.0 };
+        let scales = asm
+            .dofs
+            .free_to_full()
+            .iter()
+            .map(|&i| if i % NODE_DOFS < 3 { scale } else { 1.0 })
+            .collect();
+        let mut gravity_load = vec![0.0; n_full];
+        set.add_gravity(&q0, Some(&frames), &gravity, 1.0, &mut gravity_load);
+        let n_free = asm.dofs.n_free();
+        let mut model = Self {
+            set,
+            positions,
+            frames,
+            asm,
+            gravity,
+            gravity_load,
+            loads,
+            pressure: InputSignal::constant(scene.pressure.as_ref().map_or(0.0, |p| p.value)),
+            orientation: 1.0,
+            probes,
+            ring_probes,
+            ends,
+            poles,
+            n_nodes,
+            scales,
+            t: 0.0,
+            q: q0.clone(),
+            v: vec![0.0; n_full],
+            acc: vec![0.0; n_full],
+            qw: q0,
+            vw: vec![0.0; n_full],
+            aw: vec![0.0; n_full],
+            fw: vec![0.0; n_full],
+            qmid: vec![0.0; n_free],
+            roles: io(scene),
+        };
+        if closed && model.signed_volume(&model.q) < 0.0 {
+            model.orientation = -1.0;
+        }
+        Ok(model)
+    }
+
+    /// Number of elements.
+    pub fn n_elements(&self) -> usize {
+        self.set.len()
+    }
+
+    /// Number of nodes.
+    pub fn n_nodes(&self) -> usize {
+        self.n_nodes
+    }
+
+    /// Number of free coordinates.
+    pub fn n_free_coordinates(&self) -> usize {
+        self.asm.dofs.n_free()
+    }
+
+    /// Position of node `k` in the committed state [m].
+    pub fn node_position(&self, k: usize) -> Vector3<f64> {
+        Vector3::from_column_slice(&self.q[k * NODE_DOFS..k * NODE_DOFS + 3])
+    }
+
+    fn element_positions(&self, e: usize, q: &[f64]) -> [Vector3<f64>; 4] {
+        let d = self.positions.dofs(e);
+        std::array::from_fn(|i| Vector3::new(q[d[3 * i]], q[d[3 * i + 1]], q[d[3 * i + 2]]))
+    }
+
+    /// `Σ volume_part` over the elements at full coordinates `q` [m3] (signed by the element
+    /// normals).
+    fn signed_volume(&self, q: &[f64]) -> f64 {
+        (0..self.positions.len())
+            .map(|e| volume_part(&self.element_positions(e, q)))
+            .sum()
+    }
+
+    /// Enclosed volume [m3] of the committed state (a closed surface).
+    pub fn volume(&self) -> f64 {
+        self.orientation * self.signed_volume(&self.q)
+    }
+
+    fn node(q: &[f64], k: usize) -> Vector3<f64> {
+        Vector3::new(q[k * NODE_DOFS], q[k * NODE_DOFS + 1], q[k * NODE_DOFS + 2])
+    }
+
+    fn ring_value(q: &[f64], nodes: &[usize], quantity: RingQuantity) -> f64 {
+        let n = nodes.len().max(1) as f64;
+        nodes
+            .iter()
+            .map(|&k| {
+                let x = Self::node(q, k);
+                match quantity {
+                    RingQuantity::Radius => x.xy().norm(),
+                    RingQuantity::Z => x.z,
+                }
+            })
+            .sum::<f64>()
+            / n
+    }
+
+    fn length_at(&self, q: &[f64]) -> f64 {
+        match self.poles {
+            Some((a, b)) => (Self::node(q, b) - Self::node(q, a)).norm(),
+            None => (Self::ring_value(q, &self.ends.1, RingQuantity::Z)
+                - Self::ring_value(q, &self.ends.0, RingQuantity::Z))
+            .abs(),
+        }
+    }
+
+    /// Kinetic energy [J] at full coordinates and rates.
+    fn kinetic_energy_at(&self, q: &[f64], v: &[f64]) -> f64 {
+        self.set.kinetic_energy(q, v, Some(&self.frames))
+    }
+
+    /// Gravity potential [J] relative to the origin: `−Q_gᵀ x` (the gravity load is constant).
+    fn potential_energy_at(&self, q: &[f64]) -> f64 {
+        -self
+            .gravity_load
+            .iter()
+            .zip(q)
+            .enumerate()
+            .filter(|(i, _)| i % NODE_DOFS < 3)
+            .map(|(_, (f, x))| f * x)
+            .sum::<f64>()
+    }
+
+    /// Strain energy [J] at full coordinates.
+    fn strain_energy_at(&self, q: &[f64]) -> f64 {
+        self.set.strain_energy(q, Some(&self.frames))
+    }
+
+    fn value_at(&self, kind: Output, q: &[f64], v: &[f64]) -> f64 {
+        match kind {
+            Output::Probe { probe, quantity } => NodeMotion {
+                q,
+                v,
+                acc: &self.acc,
+                frames: &self.frames,
+            }
+            .probe(self.probes[probe].node, quantity, None),
+            Output::Ring { probe, quantity } => {
+                Self::ring_value(q, &self.ring_probes[probe], quantity)
+            }
+            Output::Volume => self.orientation * self.signed_volume(q),
+            Output::Length => self.length_at(q),
+            Output::Energy(k) => match k {
+                EnergyKind::Kinetic => self.kinetic_energy_at(q, v),
+                EnergyKind::Potential => self.potential_energy_at(q),
+                EnergyKind::Strain => self.strain_energy_at(q),
+                EnergyKind::Total => {
+                    self.kinetic_energy_at(q, v)
+                        + self.potential_energy_at(q)
+                        + self.strain_energy_at(q)
+                }
+            },
+        }
+    }
+
+    /// Time derivative of an output: probes analytically ([`NodeMotion::probe_rate`]), the
+    /// others along the motion ([`rates::along_motion`]).
+    fn output_rate(&self, kind: Output) -> Option<f64> {
+        match kind {
+            Output::Probe { probe, quantity } => NodeMotion {
+                q: &self.q,
+                v: &self.v,
+                acc: &self.acc,
+                frames: &self.frames,
+            }
+            .probe_rate(self.probes[probe].node, quantity, None),
+            _ => {
+                let mut work = [Vec::new(), Vec::new()];
+                Some(rates::along_motion(
+                    &self.q,
+                    &self.v,
+                    &self.acc,
+                    &mut work,
+                    |q, v| self.value_at(kind, q, v),
+                ))
+            }
+        }
+    }
+
+    fn input_signal(&mut self, input: usize) -> &mut InputSignal {
+        match self.roles.inputs[input] {
+            Input::Load { load, comp } => &mut self.loads[load].values[comp],
+            Input::Pressure => &mut self.pressure,
+        }
+    }
+
+    /// Residual and iteration matrix at time `t` [s] of the configuration in `self.qw`, rates
+    /// in `self.vw`, `self.aw`; the stiffness part of the iteration matrix is scaled by
+    /// `k_scale`.
+    fn assemble(
+        &mut self,
+        t: f64,
+        lambda: f64,
+        k_scale: f64,
+        r: &mut [f64],
+        mut jac: Option<(JacobianCoeffs, &mut [f64])>,
+    ) -> Result<(), ModelError> {
+        let mut fw = std::mem::take(&mut self.fw);
+        fw.fill(0.0);
+        if let Some((_, vals)) = jac.as_mut() {
+            vals.fill(0.0);
+        }
+        let x = Eval {
+            q: &self.qw,
+            v: &self.vw,
+            a: &self.aw,
+            g: self.gravity * lambda,
+        };
+        let elem_jac = jac.as_mut().map(|(c, vals)| {
+            let c = JacobianCoeffs {
+                stiffness: c.stiffness * k_scale,
+                ..*c
+            };
+            (c, &mut **vals)
+        });
+        self.set
+            .add_residual(&x, Some(&mut self.frames), &mut fw, elem_jac);
+        let frames = self.frames.current();
+        for l in &self.loads {
+            let jac = jac.as_mut().map(|(c, vals)| (&*c, k_scale, &mut **vals));
+            l.add_residual(t, lambda, frames, &mut fw, &self.asm, jac);
+        }
+        let p = self.pressure.at(t) * lambda * self.orientation;
+        if p != 0.0 {
+            let (mut f, mut k) = (SVector::<f64, 12>::zeros(), SMatrix::<f64, 12, 12>::zeros());
+            for e in 0..self.positions.len() {
+                let xe = self.element_positions(e, &self.qw);
+                match jac.as_mut() {
+                    Some((c, vals)) => {
+                        pressure_into(&xe, p, &mut f, Some(&mut k));
+                        self.positions
+                            .add_matrix(e, &k, -c.stiffness * k_scale, vals);
+                    }
+                    None => pressure_into(&xe, p, &mut f, None),
+                }
+                self.positions.add_vector(e, &f, -1.0, &mut fw);
+            }
+        }
+        self.asm.dofs.restrict(&fw, r);
+        self.fw = fw;
+        check_finite(r, jac.as_ref().map(|(_, vals)| &**vals))
+    }
+}
+
+impl Model for Shell {
+    fn set_input(&mut self, input: usize, value: f64) {
+        let t = self.t;
+        self.input_signal(input).set(value, t);
+    }
+
+    fn set_input_derivative(
+        &mut self,
+        input: usize,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String> {
+        if !(1..=2).contains(&order) {
+            return Err(format!("derivative order {order} not supported (1 or 2)"));
+        }
+        self.input_signal(input).set_derivative(order, value);
+        Ok(())
+    }
+
+    fn output(&self, output: usize) -> f64 {
+        self.value_at(self.roles.outputs[output], &self.q, &self.v)
+    }
+
+    fn output_derivative(&self, output: usize) -> Option<f64> {
+        self.output_rate(self.roles.outputs[output])
+    }
+
+    fn accept(&mut self, state: &mut DynState) {
+        let mut q = std::mem::take(&mut self.q);
+        self.asm.dofs.expand(&state.q, &mut q);
+        self.frames.absorb(&mut q);
+        self.asm.dofs.restrict(&q, &mut state.q);
+        self.q = q;
+        self.asm.dofs.expand(&state.v, &mut self.v);
+        self.asm.dofs.expand(&state.acc, &mut self.acc);
+        self.t = state.t;
+    }
+
+    fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
+        self.asm.dofs.restrict(&self.q, q);
+        self.asm.dofs.restrict(&self.v, v);
+    }
+
+    fn constant_mass(&self) -> bool {
+        true
+    }
+
+    /// Committed time, coordinates, velocities and accelerations, nodal orientations and input
+    /// signals.
+    fn save(&self, w: &mut StateWriter) -> Result<(), String> {
+        w.f64(self.t);
+        w.f64s(&self.q);
+        w.f64s(&self.v);
+        w.f64s(&self.acc);
+        self.frames.save(w);
+        for l in &self.loads {
+            l.save(w);
+        }
+        self.pressure.save(w);
+        Ok(())
+    }
+
+    fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
+        let e = |e: crate::snapshot::SnapshotError| e.to_string();
+        self.t = r.f64().map_err(e)?;
+        r.f64s_into(&mut self.q).map_err(e)?;
+        r.f64s_into(&mut self.v).map_err(e)?;
+        r.f64s_into(&mut self.acc).map_err(e)?;
+        self.frames.restore(r)?;
+        for l in &mut self.loads {
+            l.restore(r).map_err(e)?;
+        }
+        self.pressure = InputSignal::restore(r).map_err(e)?;
+        Ok(())
+    }
+}
+
+impl MechanicalSystem for Shell {
+    fn n_free(&self) -> usize {
+        self.asm.dofs.n_free()
+    }
+
+    fn pattern(&self) -> &CscPattern {
+        &self.asm.pattern
+    }
+
+    fn scales(&self) -> &[f64] {
+        &self.scales
+    }
+
+    fn residual(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        load_factor: f64,
+        r: &mut [f64],
+        jac: Option<(JacobianCoeffs, &mut [f64])>,
+    ) -> Result<(), ModelError> {
+        self.asm.dofs.expand(q, &mut self.qw);
+        self.asm.dofs.expand(v, &mut self.vw);
+        self.asm.dofs.expand(a, &mut self.aw);
+        self.assemble(t, load_factor, 1.0, r, jac)
+    }
+
+    /// Implicit midpoint rule: the residual at the mean configuration `(q_a + q_b)/2` (in the
+    /// chart of the stored orientations) with the mean velocity and acceleration the
+    /// integrator passes, as the 3D beam does (second order, not exactly energy conserving
+    /// for the shell's non-quadratic strain energy).
+    fn midpoint_residual(
+        &mut self,
+        t_a: f64,
+        t_b: f64,
+        q_a: &[f64],
+        q_b: &[f64],
+        v: &[f64],
+        a: &[f64],
+        r: &mut [f64],
+        jac: Option<(JacobianCoeffs, &mut [f64])>,
+    ) -> Result<(), ModelError> {
+        let mut qm = std::mem::take(&mut self.qmid);
+        for i in 0..qm.len() {
+            qm[i] = 0.5 * (q_a[i] + q_b[i]);
+        }
+        self.asm.dofs.expand(&qm, &mut self.qw);
+        self.qmid = qm;
+        self.asm.dofs.expand(v, &mut self.vw);
+        self.asm.dofs.expand(a, &mut self.aw);
+        self.assemble(0.5 * (t_a + t_b), 1.0, 0.5, r, jac)
+    }
+
+    fn rebase(&mut self, q: &mut [f64]) {
+        let mut full = std::mem::take(&mut self.q);
+        self.asm.dofs.expand(q, &mut full);
+        self.frames.absorb(&mut full);
+        self.asm.dofs.restrict(&full, q);
+        self.q = full;
+    }
+}
