@@ -82,8 +82,8 @@ const C2: [f64; 4] = [-0.5, -0.5, 0.5, 0.5];
 /// Bending shape functions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Bending {
-    /// V1: products of beam Hermite polynomials (Eqs. 26–27); cannot represent a constant twist
-    /// on its own (no twist coordinate).
+    /// V1: products of beam Hermite polynomials (Eqs. 26–27). Holds rigid rotations exactly
+    /// only on rectangles (on trapezoids the rigid-mode projector removes the spurious energy).
     V1,
     /// V2: the 12-DOF rectangle (Adini–Clough–Melosh) functions (Eq. 28), the default.
     V2,
