@@ -256,7 +256,10 @@ fn patch_error(
 
 /// The patch of MacNeal & Harder 1985 (0.24 × 0.12 with five distorted elements; 4 interior
 /// nodes).
-fn macneal_patch() -> (Vec<(f64, f64)>, Vec<[usize; 4]>, Vec<usize>) {
+/// Nodes, quadrilaterals and boundary nodes of a patch.
+type Patch = (Vec<(f64, f64)>, Vec<[usize; 4]>, Vec<usize>);
+
+fn macneal_patch() -> Patch {
     let nodes = vec![
         (0.0, 0.0),
         (0.24, 0.0),
@@ -279,7 +282,7 @@ fn macneal_patch() -> (Vec<(f64, f64)>, Vec<[usize; 4]>, Vec<usize>) {
 
 /// A patch of isosceles trapezoids: two rows of a trapezoidal plate whose width shrinks with
 /// y (the mesh of a surface-of-revolution ring, flattened); interior nodes on the middle row.
-fn trapezoid_patch(n: usize) -> (Vec<(f64, f64)>, Vec<[usize; 4]>, Vec<usize>) {
+fn trapezoid_patch(n: usize) -> Patch {
     let width = |y: f64| 0.3 - 0.5 * y;
     let rows = 2 * n;
     let mut nodes = Vec::new();
@@ -410,4 +413,26 @@ fn bending_patch_test_on_trapezoids_converges_for_v2() {
     }
     assert!(errs[2].0 < 1e-5 && errs[2].1 < 1e-2, "{errs:?}");
     assert!(e < 0.2, "distorted patch: {e}");
+}
+
+/// The closed-form first derivatives of the element frame agree with the dual-number ones.
+#[test]
+fn frame_derivatives_closed_form_and_dual_agree() {
+    let (x, r) = deformed(&corners(Shape::General));
+    let el = TrapezoidShell::new(
+        corners(Shape::General),
+        &steel(0.01),
+        &ShellOptions::default(),
+    )
+    .unwrap();
+    // The force (closed-form frame derivatives) equals the force computed along with the
+    // tangent (dual-number frame derivatives).
+    let (mut f1, mut f2, mut k) = (Vec24::zeros(), Vec24::zeros(), Mat24::zeros());
+    el.internal(&x, &r, &mut f1, None);
+    el.internal(&x, &r, &mut f2, Some(&mut k));
+    assert!(
+        (f1 - f2).norm() <= 1e-12 * f1.norm(),
+        "{}",
+        (f1 - f2).norm() / f1.norm()
+    );
 }
