@@ -30,9 +30,9 @@ fn main() {
         let el = TrapezoidShell::new(x0, &mat, &opt).unwrap();
         let q0 = exp_so3(&Vector3::new(0.3, -0.2, 0.5));
         let mut q = Vec24::zeros();
-        for i in 0..4 {
+        for (i, x) in x0.iter().enumerate() {
             q.fixed_rows_mut::<3>(6 * i)
-                .copy_from(&(q0 * x0[i] + Vector3::new(0.001 * i as f64, 0.0, 0.002)));
+                .copy_from(&(q0 * x + Vector3::new(0.001 * i as f64, 0.0, 0.002)));
         }
         let frames: Vec<Frame> = (0..4)
             .map(|i| Frame {
