@@ -82,8 +82,8 @@ const C2: [f64; 4] = [-0.5, -0.5, 0.5, 0.5];
 /// Bending shape functions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Bending {
-    /// V1: products of beam Hermite polynomials (Eqs. 26–27); cannot represent a constant twist
-    /// on its own (no twist coordinate).
+    /// V1: products of beam Hermite polynomials (Eqs. 26–27). Holds rigid rotations exactly
+    /// only on rectangles (on trapezoids the rigid-mode projector removes the spurious energy).
     V1,
     /// V2: the 12-DOF rectangle (Adini–Clough–Melosh) functions (Eq. 28), the default.
     V2,
@@ -514,18 +514,21 @@ fn frame_jet(g1: &Vector3<f64>, g2: &Vector3<f64>) -> [[Dual2; 3]; 3] {
     std::array::from_fn(|k| [e1[k], e2[k], e3[k]])
 }
 
-/// The current element frame `E`, its derivatives `∂E/∂x_jk` (node j, component k), and the
-/// second derivatives (as the frame jet, contracted on demand).
+/// The current element frame `E`, its derivatives `∂E/∂x_jk` (node j, component k), and, for
+/// the tangent, its second derivatives (the frame jet, contracted on demand).
 struct CurrentFrame {
     e: Matrix3<f64>,
     /// `∂E/∂g_a`, a = 0..6.
     de_dg: [Matrix3<f64>; 6],
-    jet: [[Dual2; 3]; 3],
+    jet: Option<[[Dual2; 3]; 3]>,
     c: Vector3<f64>,
 }
 
 impl CurrentFrame {
-    fn new(x: &[Vector3<f64>; 4]) -> Self {
+    /// The frame and its first derivatives in closed form: the spin `ω` of the frame
+    /// (`δE = ω̃ E`) is `ω = e1 (e3·δg2 − (g2·e1)/|g1| e3·δg1)/|h| − e2 (e3·δg1)/|g1| +
+    /// e3 (e2·δg1)/|g1|` with `h = g2 − (g2·e1) e1`; with `second` also the second derivatives.
+    fn new(x: &[Vector3<f64>; 4], second: bool) -> Self {
         let mut g1 = Vector3::zeros();
         let mut g2 = Vector3::zeros();
         let mut c = Vector3::zeros();
@@ -534,10 +537,40 @@ impl CurrentFrame {
             g2 += C2[i] * x[i];
             c += 0.25 * x[i];
         }
-        let jet = frame_jet(&g1, &g2);
-        let e = Matrix3::from_fn(|k, l| jet[k][l].v);
-        let de_dg = std::array::from_fn(|a| Matrix3::from_fn(|k, l| jet[k][l].g[a]));
-        Self { e, de_dg, jet, c }
+        if second {
+            let jet = frame_jet(&g1, &g2);
+            let e = Matrix3::from_fn(|k, l| jet[k][l].v);
+            let de_dg = std::array::from_fn(|a| Matrix3::from_fn(|k, l| jet[k][l].g[a]));
+            return Self {
+                e,
+                de_dg,
+                jet: Some(jet),
+                c,
+            };
+        }
+        let n1 = g1.norm();
+        let e1 = g1 / n1;
+        let d = g2.dot(&e1);
+        let h = g2 - d * e1;
+        let nh = h.norm();
+        let e2 = h / nh;
+        let e3 = e1.cross(&e2);
+        let e = Matrix3::from_columns(&[e1, e2, e3]);
+        let de_dg = std::array::from_fn(|a| {
+            let (k, second_vector) = (a % 3, a >= 3);
+            let w = if second_vector {
+                e1 * (e3[k] / nh)
+            } else {
+                e1 * (-d / n1 * e3[k] / nh) - e2 * (e3[k] / n1) + e3 * (e2[k] / n1)
+            };
+            skew(&w) * e
+        });
+        Self {
+            e,
+            de_dg,
+            jet: None,
+            c,
+        }
     }
 
     /// `∂E/∂x_jk`.
@@ -545,16 +578,19 @@ impl CurrentFrame {
         self.de_dg[k] * C1[j] + self.de_dg[3 + k] * C2[j]
     }
 
-    /// `⟨∂²E/∂g_a ∂g_b, B⟩` (6 × 6).
+    /// `⟨∂²E/∂g_a ∂g_b, B⟩` (6 × 6); needs the frame built with second derivatives.
     fn contracted_hessian(&self, b: &Matrix3<f64>) -> [[f64; 6]; 6] {
         let mut out = [[0.0; 6]; 6];
+        let Some(jet) = &self.jet else {
+            return out;
+        };
         for k in 0..3 {
             for l in 0..3 {
                 let w = b[(k, l)];
                 if w == 0.0 {
                     continue;
                 }
-                let h = &self.jet[k][l].h;
+                let h = &jet[k][l].h;
                 for a in 0..6 {
                     for c in 0..6 {
                         out[a][c] += w * h[a][c];
@@ -621,7 +657,7 @@ impl TrapezoidShell {
                 opt.drilling
             ));
         }
-        let frame = CurrentFrame::new(&x);
+        let frame = CurrentFrame::new(&x, false);
         let g1: Vector3<f64> = (0..4).map(|i| C1[i] * x[i]).sum();
         let g2: Vector3<f64> = (0..4).map(|i| C2[i] * x[i]).sum();
         let e0 = gram_schmidt(&g1, &g2)
@@ -810,7 +846,7 @@ impl TrapezoidShell {
     /// this returns the elastic part `P ΔX = H Δq` of the deflections in SCF at a state.
     pub fn elastic_deflection(&self, s: &ElementState<ELEMENT_DOFS>) -> Vec24 {
         let (x, r) = nodes_of(s);
-        let f = CurrentFrame::new(&x);
+        let f = CurrentFrame::new(&x, false);
         self.proj * self.local_deflection(&f, &x, &r)
     }
 
@@ -859,7 +895,7 @@ impl TrapezoidShell {
 
     /// Strain energy [J] at nodes `x` and node rotations `r`.
     pub fn strain_energy(&self, x: &[Vector3<f64>; 4], r: &[Matrix3<f64>; 4]) -> f64 {
-        let f = CurrentFrame::new(x);
+        let f = CurrentFrame::new(x, false);
         let d = self.local_deflection(&f, x, r);
         let mut g = Vec24::zeros();
         self.local_energy(&d, &mut g, None)
@@ -874,7 +910,7 @@ impl TrapezoidShell {
         f: &mut Vec24,
         k: Option<&mut Mat24>,
     ) -> f64 {
-        let fr = CurrentFrame::new(x);
+        let fr = CurrentFrame::new(x, k.is_some());
         let et = fr.e.transpose();
         let d = self.local_deflection(&fr, x, r);
         let a: [Matrix3<f64>; 4] = std::array::from_fn(|i| r[i] * self.e0);
@@ -913,7 +949,21 @@ impl TrapezoidShell {
         let Some(k) = k else {
             return u;
         };
-        *k = jac.transpose() * kl * jac;
+        // Jᵀ K J: J has no u–W block and a block-diagonal θ–W block.
+        let mut kj = Mat24::zeros();
+        for j in 0..4 {
+            for c in 0..3 {
+                let col = 6 * j + c;
+                kj.set_column(col, &(kl * jac.column(col)));
+                let wc = col + 3;
+                let mut acc = Vec24::zeros();
+                for r3 in 0..3 {
+                    acc.axpy(jac[(6 * j + 3 + r3, wc)], &kl.column(6 * j + 3 + r3), 1.0);
+                }
+                kj.set_column(wc, &acc);
+            }
+        }
+        k.gemm_tr(1.0, &jac, &kj, 0.0);
         // Geometric part: the Hessian of s = f̄ᵀ ΔX(y) = ⟨E, B⟩ at fixed f̄,
         // B = Σ (x_i − c) f̄u_iᵀ − ½ Σ R_i E0 f̃θ_i.
         let fu: [Vector3<f64>; 4] = std::array::from_fn(|i| fl.fixed_rows::<3>(6 * i).into_owned());
