@@ -107,6 +107,13 @@ fn strict_tables_name_unknown_keys() {
         "{plate}\n[[ring_supports]]\nring = \"first\"\nkind = \"clamped\"\n"
     ));
     assert!(err.contains("ring_supports[0]"), "{err}");
+    let err = scene_error(&format!(
+        "{plate}\n[[line_loads]]\nname = \"load\"\nedge = \"x1\"\n"
+    ));
+    assert!(
+        err.contains("line_loads[0]") && err.contains("loads[0]") && err.contains("load.fx"),
+        "{err}"
+    );
     let err = scene_error(&edit(&plate, "at = [0.5, 0.5, 0.0]", "at = [0.5]"));
     assert!(err.contains("loads[0].at"), "{err}");
     let err = scene_error(&edit(TUBE, "ring = 0.25", "ring = \"middle\""));

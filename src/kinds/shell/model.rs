@@ -205,7 +205,8 @@ impl Geometry {
 /// (translations; rotations about the centroid, positions scaled by the extent) restricted to
 /// the constrained coordinates have full rank.
 fn holds_rigid_motion(nodes: &[Vector3<f64>], constrained: &[bool]) -> bool {
-    let c = nodes.iter().sum::<Vector3<f64>>() / nodes.len().max(1) as f64;
+    let n = nodes.len().max(1) as f64;
+    let c = nodes.iter().map(|x| x / n).sum::<Vector3<f64>>();
     let extent = nodes
         .iter()
         .map(|x| (x - c).norm())
@@ -231,8 +232,13 @@ fn holds_rigid_motion(nodes: &[Vector3<f64>], constrained: &[bool]) -> bool {
             g += m * m.transpose();
         }
     }
+    // each mode normalised (a long thin plate has rotation modes of very different sizes)
+    let d = g
+        .diagonal()
+        .map(|x| if x > 0.0 { 1.0 / x.sqrt() } else { 0.0 });
+    let g = SMatrix::<f64, 6, 6>::from_fn(|i, j| g[(i, j)] * d[i] * d[j]);
     let ev = g.symmetric_eigenvalues();
-    ev.min() > 1e-10 * ev.max().max(f64::MIN_POSITIVE)
+    ev.min() > 1e-10
 }
 
 /// A probe at a node.
@@ -333,7 +339,8 @@ impl Shell {
         let statics = matches!(p.get(SOLVER_STATIC), Some(Value::Boolean(true)));
         if statics && !holds_rigid_motion(&geo.nodes, &constrained) {
             return Err(format!(
-                "{SOLVER_STATIC} = true: the supports leave the shell free to move as a rigid body, so there is no static equilibrium; fix more (support.x0 ... support.y1 of a plate, ring_supports, point_supports) or set {SOLVER_STATIC} = false (the dynamic problem may be free)"
+                "{SOLVER_STATIC} = true: the supports leave the shell (from {}) free to move as a rigid body, so there is no static equilibrium; fix more (support.x0 ... support.y1 of a plate, ring_supports, point_supports) or set {SOLVER_STATIC} = false (the dynamic problem may be free)",
+                geo.keys
             ));
         }
         let dofs = DofMap::new(&constrained);

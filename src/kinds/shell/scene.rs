@@ -340,12 +340,63 @@ pub fn check(s: &ShellScene) -> Result<(), Vec<String>> {
         }
         reject_repeated(&key, &p.outputs, &mut errs);
     }
+    check_variable_names(s, &mut errs);
     if plate && (s.outputs.volume || s.outputs.length) {
         errs.push(
             "outputs.volume, outputs.length: for a surface of revolution ([meridian]) only".into(),
         );
     }
     if errs.is_empty() { Ok(()) } else { Err(errs) }
+}
+
+/// Records every variable name that two entries declare, naming both entries.
+fn check_variable_names(s: &ShellScene, errs: &mut Vec<String>) {
+    const LOAD: [&str; 6] = ["fx", "fy", "fz", "mx", "my", "mz"];
+    let mut vars: Vec<(String, String)> = Vec::new();
+    for (i, l) in s.loads.iter().enumerate() {
+        vars.extend(LOAD.map(|c| (format!("{}.{c}", l.name), format!("loads[{i}]"))));
+    }
+    for (i, l) in s.line_loads.iter().enumerate() {
+        vars.extend(LOAD.map(|c| (format!("{}.{c}", l.name), format!("line_loads[{i}]"))));
+    }
+    if let Some(p) = &s.pressure {
+        vars.push((format!("{}.pressure", p.name), "pressure".into()));
+    }
+    for (i, p) in s.probes.iter().enumerate() {
+        for q in &p.outputs {
+            vars.push((
+                format!("{}.{}", p.name, q.declaration().0),
+                format!("probes[{i}]"),
+            ));
+        }
+    }
+    for (i, p) in s.ring_probes.iter().enumerate() {
+        for q in &p.outputs {
+            let suffix = match q {
+                RingQuantity::Radius => "radius",
+                RingQuantity::Z => "z",
+            };
+            vars.push((format!("{}.{suffix}", p.name), format!("ring_probes[{i}]")));
+        }
+    }
+    if s.outputs.volume {
+        vars.push((SHELL_VOLUME.into(), "outputs.volume".into()));
+    }
+    if s.outputs.length {
+        vars.push((SHELL_LENGTH.into(), "outputs.length".into()));
+    }
+    let mut seen = std::collections::BTreeMap::new();
+    for (name, key) in vars {
+        if let Some(first) = seen.get(&name) {
+            if *first != key {
+                errs.push(format!(
+                    "{key}: declares the variable {name}, which {first} declares too; rename one of them"
+                ));
+            }
+        } else {
+            seen.insert(name, key);
+        }
+    }
 }
 
 /// Parameters of a shell scene (the tables exist: [`check`] passed).
