@@ -309,6 +309,37 @@ fn tube_stretched_by_a_ring_load() {
     assert!((mid / (0.5 * expect) - 1.0).abs() < 1e-3, "{mid}");
 }
 
+/// An isosceles trapezoidal plate (`width_top`) clamped along its bottom edge under a total
+/// force on its top edge: the mesh is symmetric about x = length_x/2, so the top corners
+/// deflect alike and the top centre lies on the axis of symmetry; the top edge's nodes are
+/// found by point.
+#[test]
+fn trapezoidal_plate_deflects_symmetrically() {
+    let text = edit(
+        &edit(
+            &edit(
+                &text("strip"),
+                "length_y = 1.0",
+                "length_y = 2.0\nwidth_top = 0.5",
+            ),
+            "x0 = \"clamped\"",
+            "y0 = \"clamped\"",
+        ),
+        "edge = \"x1\"",
+        "edge = \"y1\"",
+    )
+    .replace("at = [10.0, 0.5, 0.0]", "at = [4.75, 2.0, 0.0]")
+        + "\n[[probes]]\nname = \"right\"\nat = [5.25, 2.0]\noutputs = [\"x\", \"z\"]\n\n[[probes]]\nname = \"mid\"\nat = [5.0, 2.0]\noutputs = [\"x\", \"z\"]\n";
+    let sc = Scene::from_toml(&text).unwrap();
+    let sim = simulation(&sc, &[("load.fz", Value::Real(1.0))]).unwrap();
+    let (zl, zr) = (output(&sc, &sim, "tip.z"), output(&sc, &sim, "right.z"));
+    let zm = output(&sc, &sim, "mid.z");
+    eprintln!("trapezoidal plate: top corners z = {zl:.6e}, {zr:.6e}, top centre {zm:.6e}");
+    assert!(zl > 0.0 && zm > 0.0);
+    assert!((zl - zr).abs() < 1e-9 * zl, "{zl} vs {zr}");
+    assert!((output(&sc, &sim, "mid.x") - 5.0).abs() < 1e-9);
+}
+
 /// The assembled iteration matrix of the whole model against central differences of its
 /// residual (mass, damping and stiffness parts) at a configuration with large incremental
 /// rotations, velocities and accelerations, with gravity, a point force and moment, a line
