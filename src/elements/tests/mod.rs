@@ -5,3 +5,4 @@
 mod ancf_cable2d;
 mod ancf_shear2d;
 mod corotational3d;
+mod trapezoid_shell;
