@@ -865,4 +865,37 @@ mod tests {
             "{lo}..{hi}"
         );
     }
+
+    /// Every element of closed meshes (flat and curved caps) is accepted by the seed-004 shell
+    /// element (convex, planar, counter-clockwise about its normal) with the mesh's area.
+    #[test]
+    fn shell_elements_accept_the_closed_meshes() {
+        use crate::elements::trapezoid_shell::{ShellMaterial, ShellOptions, TrapezoidShell};
+        let mat = ShellMaterial {
+            e: 2.1e11,
+            nu: 0.3,
+            rho: 7850.0,
+            thickness: 2e-3,
+        };
+        let opt = ShellOptions::default();
+        let meshes = [
+            ("cylinder 8", closed_cylinder(0.1, 0.5, 8, 10)),
+            ("cylinder 12", closed_cylinder(0.1, 0.5, 12, 10)),
+            ("cylinder 32", closed_cylinder(0.1, 0.5, 32, 24)),
+            ("sphere 16", sphere(0.2, 16, 8)),
+        ];
+        for (what, m) in &meshes {
+            let mut area = 0.0;
+            for (e, el) in m.elements.iter().enumerate() {
+                let shell = TrapezoidShell::new(el.map(|k| m.nodes[k]), &mat, &opt)
+                    .unwrap_or_else(|err| panic!("{what}: element {e}: {err}"));
+                area += shell.area();
+            }
+            assert!(
+                (area - m.area()).abs() < 1e-12 * area,
+                "{what}: {area} vs {}",
+                m.area()
+            );
+        }
+    }
 }
