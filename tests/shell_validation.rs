@@ -25,7 +25,7 @@ fn orders(errors: &[f64]) -> Vec<f64> {
 }
 
 /// Prints a convergence table and returns the orders.
-fn table(title: &str, sizes: &[i64], values: &[f64], exact: f64) -> (Vec<f64>, Vec<f64>) {
+fn table(title: &str, sizes: &[i32], values: &[f64], exact: f64) -> (Vec<f64>, Vec<f64>) {
     let errors: Vec<f64> = values.iter().map(|v| (v / exact - 1.0).abs()).collect();
     let ord = orders(&errors);
     println!("{title} (reference {exact:.6e})");
@@ -134,7 +134,7 @@ fn strip_rolls_up_into_a_ring() {
                 &[
                     ("load.my", Value::Real(-m)),
                     ("mesh.n_x", Value::Integer(n)),
-                    ("solver.load_steps", Value::Integer((40.0 * frac) as i64)),
+                    ("solver.load_steps", Value::Integer((40.0 * frac) as i32)),
                 ],
                 &["tip.x", "tip.z"],
             );
