@@ -225,8 +225,9 @@ fn mesh_and_support_errors() {
     assert!(err.contains("outputs.volume"), "{err}");
 }
 
-/// The outputs of the reference state: the plate centre where the scene puts it, the tube's
-/// mean ring radius and length exact (nodes on the circle), zero energies.
+/// The outputs of the reference state: the plate centre where the scene puts it, the closed
+/// cylinder's volume that of the prism on its polygon, mean ring radii and lengths exact
+/// (nodes on the circle), zero energies.
 #[test]
 fn reference_state_outputs() {
     let sc = scene("plate");
@@ -234,6 +235,15 @@ fn reference_state_outputs() {
     assert_eq!(output(&sc, &sim, "centre.x"), 0.5);
     assert_eq!(output(&sc, &sim, "centre.y"), 0.5);
     assert_eq!(output(&sc, &sim, "centre.z"), 0.0);
+    // the closed cylinder: flat caps and planar walls enclose the prism on the 16-gon exactly
+    let cyl = scene("cylinder");
+    let sim = simulation(&cyl, &[]).unwrap();
+    let (r, l, n) = (0.1f64, 0.5f64, 16.0f64);
+    let prism = 0.5 * n * r * r * (2.0 * PI / n).sin() * l;
+    let v = output(&cyl, &sim, "shell.volume");
+    assert!((v / prism - 1.0).abs() < 1e-12, "{v} vs {prism}");
+    assert!((output(&cyl, &sim, "mid.radius") - r).abs() < 1e-15);
+    assert!((output(&cyl, &sim, "shell.length") - l).abs() < 1e-15);
     let tube = Scene::from_toml(TUBE).unwrap();
     let sim = simulation(&tube, &[]).unwrap();
     assert!((output(&tube, &sim, "mid.radius") - 0.1).abs() < 1e-15);

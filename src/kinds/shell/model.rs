@@ -28,7 +28,7 @@ use crate::kinds::KindIo;
 use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
 use crate::meshers::plate::{PlateEdge, PlateMesh, line_weights, node_at_point};
-use crate::meshers::revolution::{MeridianPiece, RevolutionMesh};
+use crate::meshers::revolution::{MeridianEnd, MeridianPiece, RevolutionMesh};
 use crate::model::inputs::InputSignal;
 use crate::model::nodes3d::{NodeLoad, NodeMotion};
 use crate::model::rates;
@@ -53,6 +53,10 @@ struct Geometry {
     rectangle: bool,
     /// Scene keys and parameters the nodes follow from.
     keys: &'static str,
+    /// Whether the surface is closed (both ends of the meridian on the axis).
+    closed: bool,
+    /// The nodes on the axis at both poles of a closed surface, if both have one.
+    poles: Option<(usize, usize)>,
 }
 
 const PLATE_KEYS: &str = "plate.length_x, plate.length_y, plate.width_top, mesh.n_x and mesh.n_y";
@@ -100,6 +104,8 @@ fn geometry(scene: &ShellScene, p: &ParamValues) -> Result<Geometry, String> {
             rings: vec![],
             rectangle: pl.width_top.is_none_or(|w| w == pl.length_x),
             plate: Some(mesh),
+            closed: false,
+            poles: None,
             keys: PLATE_KEYS,
         });
     }
@@ -126,12 +132,17 @@ fn geometry(scene: &ShellScene, p: &ParamValues) -> Result<Geometry, String> {
         "meridian.pieces",
     )?;
     let arcs = mesh.meridian.stations.arc_lengths();
-    let rings = arcs
-        .iter()
-        .enumerate()
-        .map(|(j, &s)| (s, (j * n_c..(j + 1) * n_c).collect()))
+    let rings = (0..mesh.n_stations())
+        .filter_map(|j| mesh.ring_nodes(j).map(|r| (arcs[j], r.collect())))
         .collect();
+    let axis_node = |end| mesh.pole(end).and_then(|p| p.axis_node);
+    let poles = match (axis_node(MeridianEnd::Start), axis_node(MeridianEnd::End)) {
+        (Some(a), Some(b)) => Some((a, b)),
+        _ => None,
+    };
     Ok(Geometry {
+        closed: mesh.is_closed(),
+        poles,
         nodes: mesh.nodes,
         elements: mesh.elements,
         rings,
@@ -178,26 +189,6 @@ impl Geometry {
             }
         };
         Ok(&self.rings[j].1)
-    }
-
-    /// Whether every element side is shared by exactly two elements (a closed surface).
-    fn closed(&self) -> bool {
-        let mut sides = std::collections::BTreeMap::new();
-        for el in &self.elements {
-            for i in 0..4 {
-                let (a, b) = (el[i], el[(i + 1) % 4]);
-                *sides.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-            }
-        }
-        sides.values().all(|&c| c == 2)
-    }
-
-    /// Nodes on the z axis (poles of a closed surface of revolution).
-    fn poles(&self) -> Vec<usize> {
-        let extent = self.nodes.iter().map(|x| x.norm()).fold(0.0, f64::max);
-        (0..self.nodes.len())
-            .filter(|&k| self.nodes[k].xy().norm() <= 1e-9 * extent)
-            .collect()
     }
 }
 
@@ -413,15 +404,14 @@ impl Shell {
         for (i, rp) in scene.ring_probes.iter().enumerate() {
             ring_probes.push(geo.ring(&format!("ring_probes[{i}]"), &rp.ring)?.to_vec());
         }
-        let closed = geo.closed();
+        let closed = geo.closed;
         if scene.outputs.volume && !closed {
             return Err(format!(
                 "outputs.volume: the surface is not closed (the meridian of {} must start and end on the z axis), so it encloses no volume",
                 geo.keys
             ));
         }
-        let poles = geo.poles();
-        let poles = (closed && poles.len() == 2).then(|| (poles[0], poles[1]));
+        let poles = geo.poles;
         let ends = match (geo.rings.first(), geo.rings.last()) {
             (Some(a), Some(b)) => (a.1.clone(), b.1.clone()),
             _ => (vec![], vec![]),
