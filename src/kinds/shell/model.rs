@@ -60,8 +60,7 @@ struct Geometry {
 }
 
 const PLATE_KEYS: &str = "plate.length_x, plate.length_y, plate.width_top, mesh.n_x and mesh.n_y";
-const REVOLUTION_KEYS: &str =
-    "meridian.start, meridian.pieces, mesh.n_circumferential and mesh.n_meridional";
+const REVOLUTION_KEYS: &str = "meridian.start, the direction, length, radius and angle_deg of the meridian.pieces, mesh.n_circumferential and mesh.n_meridional";
 
 fn meridian_pieces(m: &MeridianSection) -> Result<Vec<MeridianPiece>, String> {
     m.pieces
@@ -130,7 +129,8 @@ fn geometry(scene: &ShellScene, p: &ParamValues) -> Result<Geometry, String> {
         n_c,
         n_m,
         "meridian.pieces",
-    )?;
+    )
+    .map_err(|e| format!("{e} (the surface follows from {REVOLUTION_KEYS})"))?;
     let arcs = mesh.meridian.stations.arc_lengths();
     let rings = (0..mesh.n_stations())
         .filter_map(|j| mesh.ring_nodes(j).map(|r| (arcs[j], r.collect())))
