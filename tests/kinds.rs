@@ -48,6 +48,8 @@ fn kinds_list_their_tables() {
     assert!(tables("beam_2d").contains(&"motions") && !tables("beam_2d").contains(&"section"));
     assert!(tables("beam_3d").contains(&"centreline") && !tables("beam_3d").contains(&"motions"));
     assert!(tables("belt_drive").contains(&"pulley") && !tables("belt_drive").contains(&"mesh"));
+    assert!(tables("shell").contains(&"meridian") && tables("shell").contains(&"plate"));
+    assert!(!tables("shell").contains(&"section") && !tables("shell").contains(&"centreline"));
 }
 
 /// Every shipped file (written without the key) reads the same with `kind = "<its kind>"`

@@ -377,7 +377,8 @@ pub struct LineLoad {
 /// `[pressure]`: a uniform pressure on the whole surface, acting along the surface normal and
 /// following it (input `<name>.pressure` [Pa]). The normal is +z on a plate (before
 /// deformation); on a closed surface of revolution it points outwards (positive = internal
-/// pressure); on an open one it is the meridian's left normal turned about z.
+/// pressure); on an open one it is the mesher's normal `dz e_r − dr e_z` for the meridian
+/// direction `(dr, dz)` (outwards for a meridian running up, +z).
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PressureSection {
@@ -442,8 +443,9 @@ pub struct ShellOutputs {
     /// Expose `shell.volume` [m3], the volume enclosed by a closed surface of revolution.
     #[serde(default)]
     pub volume: bool,
-    /// Expose `shell.length` [m]: the distance between the two pole nodes of a closed surface
-    /// of revolution, else between the mean z of its first and last rings.
+    /// Expose `shell.length` [m]: the distance between the two nodes on the axis of a closed
+    /// surface of revolution, else (open, or poles without an axis node) between the mean z of
+    /// its first and last rings.
     #[serde(default)]
     pub length: bool,
 }
