@@ -520,6 +520,8 @@ struct CurrentFrame {
     e: Matrix3<f64>,
     /// `∂E/∂g_a`, a = 0..6.
     de_dg: [Matrix3<f64>; 6],
+    /// Spin `w_a` of the frame per unit `g_a` (`∂E/∂g_a = w̃_a E`).
+    spin: [Vector3<f64>; 6],
     jet: Option<[[Dual2; 3]; 3]>,
     c: Vector3<f64>,
 }
@@ -540,10 +542,13 @@ impl CurrentFrame {
         if second {
             let jet = frame_jet(&g1, &g2);
             let e = Matrix3::from_fn(|k, l| jet[k][l].v);
-            let de_dg = std::array::from_fn(|a| Matrix3::from_fn(|k, l| jet[k][l].g[a]));
+            let de_dg: [Matrix3<f64>; 6] =
+                std::array::from_fn(|a| Matrix3::from_fn(|k, l| jet[k][l].g[a]));
+            let spin = std::array::from_fn(|a| axial(&(de_dg[a] * e.transpose())));
             return Self {
                 e,
                 de_dg,
+                spin,
                 jet: Some(jet),
                 c,
             };
@@ -556,18 +561,19 @@ impl CurrentFrame {
         let e2 = h / nh;
         let e3 = e1.cross(&e2);
         let e = Matrix3::from_columns(&[e1, e2, e3]);
-        let de_dg = std::array::from_fn(|a| {
+        let spin: [Vector3<f64>; 6] = std::array::from_fn(|a| {
             let (k, second_vector) = (a % 3, a >= 3);
-            let w = if second_vector {
+            if second_vector {
                 e1 * (e3[k] / nh)
             } else {
                 e1 * (-d / n1 * e3[k] / nh) - e2 * (e3[k] / n1) + e3 * (e2[k] / n1)
-            };
-            skew(&w) * e
+            }
         });
+        let de_dg = std::array::from_fn(|a| skew(&spin[a]) * e);
         Self {
             e,
             de_dg,
+            spin,
             jet: None,
             c,
         }
@@ -914,56 +920,63 @@ impl TrapezoidShell {
         let et = fr.e.transpose();
         let d = self.local_deflection(&fr, x, r);
         let a: [Matrix3<f64>; 4] = std::array::from_fn(|i| r[i] * self.e0);
-        // J = ∂ΔX/∂[δx, δW]
-        let mut jac = Mat24::zeros();
+        // J = ∂ΔX/∂[δx, δW] = Λ + Z Ω: Λ block diagonal (`Eᵀ` for u_i ← x_i, `T_i` for
+        // θ_i ← W_i), the frame spin `ω = Ω δx` (3 × 24) acting through `Z` (24 × 3). The
+        // centroid's part of J is a local rigid translation, which the projected local force
+        // and stiffness do not see (`P R = 0`), so it is left out.
         let de: [[Matrix3<f64>; 3]; 4] =
             std::array::from_fn(|j| std::array::from_fn(|k| fr.de_dx(j, k)));
+        let mut lam = [Matrix3::zeros(); 8];
+        let mut z = SMatrix::<f64, ELEMENT_DOFS, 3>::zeros();
+        let mut om = SMatrix::<f64, 3, ELEMENT_DOFS>::zeros();
         for i in 0..4 {
-            let xi = x[i] - fr.c;
-            for j in 0..4 {
-                for kk in 0..3 {
-                    let det = de[j][kk].transpose();
-                    let mut du = det * xi;
-                    let w = if i == j { 0.75 } else { -0.25 };
-                    du += w * et.column(kk);
-                    let dth = axial(&(det * a[i]));
-                    for c in 0..3 {
-                        jac[(6 * i + c, 6 * j + kk)] = du[c];
-                        jac[(6 * i + 3 + c, 6 * j + kk)] = dth[c];
-                    }
-                }
+            lam[2 * i] = et;
+            lam[2 * i + 1] = Matrix3::from_fn(|c, kk| {
+                axial(&(et * r[i] * skew(&Vector3::ith(kk, 1.0)) * self.e0))[c]
+            });
+            z.fixed_view_mut::<3, 3>(6 * i, 0)
+                .copy_from(&(et * skew(&(x[i] - fr.c))));
+            for m in 0..3 {
+                let col = -axial(&(et * skew(&Vector3::ith(m, 1.0)) * a[i]));
+                z.fixed_view_mut::<3, 1>(6 * i + 3, m).copy_from(&col);
             }
             for kk in 0..3 {
-                let ek = Vector3::ith(kk, 1.0);
-                let dth = axial(&(et * r[i] * skew(&ek) * self.e0));
-                for c in 0..3 {
-                    jac[(6 * i + 3 + c, 6 * i + 3 + kk)] = dth[c];
-                }
+                let w = fr.spin[kk] * C1[i] + fr.spin[3 + kk] * C2[i];
+                om.set_column(6 * i + kk, &w);
             }
         }
         let mut fl = Vec24::zeros();
         let mut kl = Mat24::zeros();
         let want_k = k.is_some();
         let u = self.local_energy(&d, &mut fl, want_k.then_some(&mut kl));
-        *f = jac.transpose() * fl;
+        for b in 0..8 {
+            f.fixed_rows_mut::<3>(3 * b)
+                .copy_from(&(lam[b].transpose() * fl.fixed_rows::<3>(3 * b)));
+        }
+        f.gemv_tr(1.0, &om, &(z.transpose() * fl), 1.0);
         let Some(k) = k else {
             return u;
         };
-        // Jᵀ K J: J has no u–W block and a block-diagonal θ–W block.
-        let mut kj = Mat24::zeros();
-        for j in 0..4 {
-            for c in 0..3 {
-                let col = 6 * j + c;
-                kj.set_column(col, &(kl * jac.column(col)));
-                let wc = col + 3;
-                let mut acc = Vec24::zeros();
-                for r3 in 0..3 {
-                    acc.axpy(jac[(6 * j + 3 + r3, wc)], &kl.column(6 * j + 3 + r3), 1.0);
-                }
-                kj.set_column(wc, &acc);
+        // Jᵀ K J = Λᵀ K Λ + G Ω + Ωᵀ Gᵀ + Ωᵀ (Zᵀ K Z) Ω with G = Λᵀ K Z.
+        let mut kla = Mat24::zeros();
+        for b in 0..8 {
+            let blk = kl.fixed_columns::<3>(3 * b) * lam[b];
+            kla.fixed_columns_mut::<3>(3 * b).copy_from(&blk);
+        }
+        let kz = kl * z;
+        let mut g = SMatrix::<f64, ELEMENT_DOFS, 3>::zeros();
+        for a in 0..8 {
+            let lt = lam[a].transpose();
+            g.fixed_rows_mut::<3>(3 * a)
+                .copy_from(&(lt * kz.fixed_rows::<3>(3 * a)));
+            for b in 0..8 {
+                let blk = lt * kla.fixed_view::<3, 3>(3 * a, 3 * b);
+                k.fixed_view_mut::<3, 3>(3 * a, 3 * b).copy_from(&blk);
             }
         }
-        k.gemm_tr(1.0, &jac, &kj, 0.0);
+        let c3 = z.transpose() * kz;
+        let go = g * om;
+        *k += go + go.transpose() + om.transpose() * (c3 * om);
         // Geometric part: the Hessian of s = f̄ᵀ ΔX(y) = ⟨E, B⟩ at fixed f̄,
         // B = Σ (x_i − c) f̄u_iᵀ − ½ Σ R_i E0 f̃θ_i.
         let fu: [Vector3<f64>; 4] = std::array::from_fn(|i| fl.fixed_rows::<3>(6 * i).into_owned());

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod shell_reference;
+
 use flexfmu::fmi2::state_machine::Call;
 use flexfmu::instance::Instance;
 use flexfmu::logging::Status;
