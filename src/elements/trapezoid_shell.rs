@@ -610,16 +610,30 @@ impl CurrentFrame {
     }
 }
 
-/// For `s² = |v|²`: `g = asin(s)/s`, `h = g'(s)/s` and `k = h'(s)/s` (series below
-/// `s = 1e-2`, where the closed forms lose digits).
+/// For `s² = |v|²`: `g = asin(s)/s`, `h = g'(s)/s` and `k = h'(s)/s`. Below `s = 0.2` from
+/// the series `asin s = Σ a_n s^(2n+1)/(2n + 1)`, `s/√(1 − s²) = Σ a_n s^(2n+1)`,
+/// `a_n = (2n)!/(4ⁿ n!²)` (16 terms, exact to round-off), above from the closed forms, which
+/// lose digits to cancellation at small `s`.
 fn arcsine_ratio(s2: f64) -> (f64, f64, f64) {
-    if s2 < 1e-4 {
-        let s4 = s2 * s2;
-        return (
-            1.0 + s2 / 6.0 + 3.0 * s4 / 40.0 + 5.0 * s4 * s2 / 112.0,
-            1.0 / 3.0 + 0.3 * s2 + 15.0 / 56.0 * s4 + 35.0 / 144.0 * s4 * s2,
-            0.6 + 15.0 / 14.0 * s2 + 35.0 / 24.0 * s4,
-        );
+    if s2 < 0.04 {
+        let (mut g, mut h, mut k) = (1.0, 0.0, 0.0);
+        let mut a = 1.0;
+        let mut p = 1.0; // s^(2n-2)
+        for n in 1..16 {
+            let nf = n as f64;
+            a *= (2.0 * nf - 1.0) / (2.0 * nf);
+            let c = a * 2.0 * nf / (2.0 * nf + 1.0);
+            g += a / (2.0 * nf + 1.0) * p * s2;
+            h += c * p;
+            if n >= 2 {
+                k += c * (2.0 * nf - 2.0) * p / s2.max(f64::MIN_POSITIVE);
+            }
+            p *= s2;
+        }
+        if s2 == 0.0 {
+            k = 0.6;
+        }
+        return (g, h, k);
     }
     let s = s2.sqrt();
     let c2 = 1.0 - s2;
@@ -1198,8 +1212,8 @@ mod tests {
             let (g, _, _) = arcsine_ratio(v.norm_squared());
             assert!((v * g - t).norm() < 1e-14 * th.max(1e-3), "{th}");
         }
-        let below = arcsine_ratio(1e-4 * (1.0 - 1e-12));
-        let above = arcsine_ratio(1e-4 * (1.0 + 1e-12));
+        let below = arcsine_ratio(0.04 * (1.0 - 1e-12));
+        let above = arcsine_ratio(0.04 * (1.0 + 1e-12));
         for (a, b) in [(below.0, above.0), (below.1, above.1), (below.2, above.2)] {
             assert!((a - b).abs() < 1e-9 * a, "{a} {b}");
         }
