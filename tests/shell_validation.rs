@@ -47,6 +47,10 @@ const PLATE: (f64, f64, f64, f64) = (2.1e11, 0.3, 7850.0, 0.01);
 /// Simply supported square plate under a uniform pressure: centre deflection against the
 /// Navier series `α q a⁴/D`, α = 0.00406235 (Timoshenko & Woinowsky-Krieger: 0.00406), on
 /// n × n meshes, both bending variants. The load keeps the deflection below h/100 (linear).
+/// V2 converges at second order. V1 does not converge to the plate solution: its products of
+/// Hermite cubics have no twist function inside the element, so a twisting plate is too stiff
+/// at every mesh (measured errors 11.7 %, 5.6 %, 4.2 % at n = 4, 8, 16); the paper's V1 is
+/// kept selectable, and this test fails if that changes.
 #[test]
 fn simply_supported_plate_under_pressure_converges_to_navier() {
     let sc = scene("plate");
@@ -77,8 +81,15 @@ fn simply_supported_plate_under_pressure_converges_to_navier() {
             &values,
             exact,
         );
-        assert!(err[2] < 0.01, "V{bending}: {err:?}");
-        assert!(ord[1] > 1.5, "V{bending}: orders {ord:?}");
+        if bending == 2 {
+            assert!(err[2] < 0.005, "V2: {err:?}");
+            assert!(ord[0] > 1.7 && ord[1] > 1.7, "V2: orders {ord:?}");
+        } else {
+            assert!(
+                err[2] > 0.02 && ord[1] < 1.0,
+                "V1 now converges: {err:?}, update the docs"
+            );
+        }
     }
 }
 

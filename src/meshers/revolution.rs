@@ -66,7 +66,8 @@ pub struct Pole {
     /// The meridian station on the axis (0 or `n_meridional`).
     pub station: usize,
     /// The patch's nodes, `(m + 1)²` of them (`m = n_circumferential / 4`): node `(a, b)` of
-    /// the central grid is `nodes.start + b (m + 1) + a`, `a` along +x, `b` along +y.
+    /// the central grid is `nodes.start + b (m + 1) + a` (`a` and `b` counter-clockwise about +z,
+    /// `a` near +x).
     pub nodes: Range<usize>,
     /// The one node on the axis, `(0, 0, z_pole)`: the centre of the grid when `m` is even;
     /// `None` when `m` is odd (the axis then passes through the central element).
@@ -107,8 +108,8 @@ impl RevolutionMesh {
     ///
     /// Orientation: for the meridian direction `(dr, dz)` the elements run counter-clockwise
     /// about the normal `dz e_r − dr e_z` (the right-hand normal in the r-z plane drawn with r
-    /// to the right and z up). A meridian that runs counter-clockwise around the region it
-    /// bounds in that drawing (e.g. a closed cylinder: out along the bottom, up the wall, in
+    /// to the right and z up). A meridian that runs counter-clockwise around the region between
+    /// it and the axis in that drawing (e.g. a closed cylinder: out along the bottom, up the wall, in
     /// along the top) gives outward normals and a positive [`RevolutionMesh::volume`].
     ///
     /// Only the first and the last node may lie on the axis (`|r| ≤ 1e-9` of the meridian's
@@ -640,6 +641,24 @@ mod tests {
         };
         let errs: Vec<f64> = [8, 16, 32, 64].iter().map(|&n| err(n)).collect();
         assert!(errs[0] > 0.0 && errs[0] < 0.11, "{errs:?}");
+        // the same cylinder from the top pole down: every normal inwards, the volume negative
+        let down = [
+            MeridianPiece::Line {
+                direction: Some(Vector2::new(1.0, 0.0)),
+                length: r,
+            },
+            MeridianPiece::Line {
+                direction: Some(Vector2::new(0.0, -1.0)),
+                length: l,
+            },
+            MeridianPiece::Line {
+                direction: Some(Vector2::new(-1.0, 0.0)),
+                length: r,
+            },
+        ];
+        let m = RevolutionMesh::new(Vector2::new(0.0, l), &down, 16, 32, "m").unwrap();
+        let v = closed_cylinder(r, l, 16, 32).volume();
+        assert!((m.volume() + v).abs() < 1e-12 * v, "{} vs {v}", m.volume());
         for w in errs.windows(2) {
             assert!((w[0] / w[1] - 4.0).abs() < 0.2, "order: {errs:?}");
         }
