@@ -4,6 +4,7 @@
 
 mod factory;
 pub mod inputs;
+pub mod modal;
 pub mod ports;
 pub mod rates;
 mod system;
