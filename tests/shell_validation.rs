@@ -236,7 +236,9 @@ outputs = ["z"]
 
 /// Clamped circular plate under a uniform pressure: centre deflection against `q a⁴/(64 D)`
 /// (Timoshenko & Woinowsky-Krieger), on surface-of-revolution meshes with the O-grid pole
-/// patch (n_circumferential = 4 n_meridional).
+/// patch (n_circumferential = 4 n_meridional). Measured: +2.1 %, +0.27 %, −0.13 % at n = 4,
+/// 8, 16 (the error changes sign: the inscribed polygon of the rim shortens the radius by
+/// `O(1/n²)` while the element converges from above, so no order is asserted).
 #[test]
 fn clamped_circular_plate_under_pressure() {
     let a = 0.5;
@@ -267,8 +269,7 @@ fn clamped_circular_plate_under_pressure() {
         &values,
         exact,
     );
-    assert!(err[2] < 0.01, "{err:?}");
-    assert!(ord[1] > 1.5, "orders {ord:?}");
+    assert!(err[1] < 0.01 && err[2] < 0.005, "{err:?} (orders {ord:?})");
 }
 
 /// Closed cylinder (R = 0.1, t = 2 mm, L = 0.5, flat end caps) under internal pressure: the
@@ -377,4 +378,49 @@ fn free_vibration_keeps_its_energy() {
             _ => assert!(dev < 0.01, "integrator {code}: energy changed by {dev}"),
         }
     }
+}
+
+/// Natural frequencies of the simply supported square plate (translations held on the edges)
+/// against `ω_mn = π²(m² + n²)/a² √(D/(ρh))` (Leissa, NASA SP-160): modes (1,1), (1,2) =
+/// (2,1) and (2,2), n × n meshes (dense eigenproblem of the assembled matrices).
+#[test]
+fn simply_supported_plate_frequencies() {
+    use flexfmu::kinds::shell::model::Shell;
+    use flexfmu::model::{MechanicalSystem, Model, modal};
+    let sc = scene("plate");
+    let (e, nu, rho, h) = PLATE;
+    let d = reference::plate_rigidity(e, h, nu);
+    let exact = [(1, 1), (1, 2), (2, 1), (2, 2)]
+        .map(|(m, n)| reference::ss_plate_frequency(1.0, 1.0, d, rho, h, m, n));
+    println!("| n | ω11 / exact | ω12 / exact | ω21 / exact | ω22 / exact |");
+    println!("|---|---|---|---|---|");
+    let mut errors = Vec::new();
+    for n in [4, 8, 12] {
+        let mut sim = simulation(
+            &sc,
+            &[
+                ("mesh.n_x", Value::Integer(n)),
+                ("mesh.n_y", Value::Integer(n)),
+            ],
+        )
+        .unwrap();
+        let m = sim.model_as_mut::<Shell>().unwrap();
+        let nf = m.n_free();
+        let (mut q, mut v) = (vec![0.0; nf], vec![0.0; nf]);
+        m.free_state(&mut q, &mut v);
+        let (mm, kk) = modal::dense_matrices(m, 0.0, &q).unwrap();
+        let w = modal::natural_frequencies(&mm, &kk).unwrap();
+        let ratios: Vec<f64> = (0..4).map(|i| w[i] / exact[i]).collect();
+        println!(
+            "| {n} | {:.4} | {:.4} | {:.4} | {:.4} |",
+            ratios[0], ratios[1], ratios[2], ratios[3]
+        );
+        errors.push((ratios[0] - 1.0).abs());
+        if n == 12 {
+            for r in &ratios {
+                assert!((r - 1.0).abs() < 0.03, "{ratios:?}");
+            }
+        }
+    }
+    assert!(errors[2] < errors[1] && errors[1] < errors[0], "{errors:?}");
 }
