@@ -382,7 +382,10 @@ fn free_vibration_keeps_its_energy() {
 
 /// Natural frequencies of the simply supported square plate (translations held on the edges)
 /// against `ω_mn = π²(m² + n²)/a² √(D/(ρh))` (Leissa, NASA SP-160): modes (1,1), (1,2) =
-/// (2,1) and (2,2), n × n meshes (dense eigenproblem of the assembled matrices).
+/// (2,1) and (2,2), n × n meshes (dense eigenproblem of the assembled matrices). Measured:
+/// the frequencies converge from above at second order (ω11 +7.1 %, +1.7 %, +0.76 % at n =
+/// 4, 8, 12; ω22 +29 %, +7.1 %, +3.1 %): the translational mass is that of the bilinear
+/// position field (module notes of the element).
 #[test]
 fn simply_supported_plate_frequencies() {
     use flexfmu::kinds::shell::model::Shell;
@@ -415,14 +418,19 @@ fn simply_supported_plate_frequencies() {
             "| {n} | {:.4} | {:.4} | {:.4} | {:.4} |",
             ratios[0], ratios[1], ratios[2], ratios[3]
         );
-        errors.push((ratios[0] - 1.0).abs());
+        errors.push((ratios[0] - 1.0, ratios[3] - 1.0));
         if n == 12 {
             for r in &ratios {
-                assert!((r - 1.0).abs() < 0.03, "{ratios:?}");
+                assert!(*r > 1.0 && *r < 1.04, "{ratios:?}");
             }
         }
     }
-    assert!(errors[2] < errors[1] && errors[1] < errors[0], "{errors:?}");
+    // second order: the error falls by (12/8)² = 2.25 from n = 8 to 12
+    for k in [0, 1] {
+        let pick = |e: &(f64, f64)| if k == 0 { e.0 } else { e.1 };
+        let ratio = pick(&errors[1]) / pick(&errors[2]);
+        assert!(ratio > 2.0, "mode {k}: {errors:?}");
+    }
 }
 
 /// Does the geometric (initial-stress) stiffness allow coarser meshes, as Part I of the paper
