@@ -78,6 +78,10 @@ pub struct ShellScene {
     /// Uniform pressure on the whole surface (follower load).
     #[serde(default)]
     pub pressure: Option<PressureSection>,
+    /// Motion ports: a plate edge, a ring or a node moved rigidly in translation by the
+    /// master (position and velocity inputs, reaction-force outputs).
+    #[serde(default)]
+    pub motions: Vec<ShellMotion>,
     /// Probes at nodes.
     #[serde(default)]
     pub probes: Vec<PointProbe>,
@@ -372,6 +376,27 @@ pub struct LineLoad {
     /// Start value of the total moment about z [N m].
     #[serde(default)]
     pub mz: f64,
+}
+
+/// `[[motions]]`: a motion port. The nodes of a plate edge, a ring or one node translate
+/// rigidly with the prescribed position of the group's reference point (inputs `<name>.x`,
+/// `.y`, `.z` [m], `.vx`, `.vy`, `.vz` [m/s]) and keep their reference orientation (a clamped
+/// attachment); outputs `<name>.fx`, `.fy`, `.fz` [N] are the total force the shell exerts on
+/// the driver. Give exactly one of `edge`, `ring`, `at`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShellMotion {
+    /// Variable prefix.
+    pub name: String,
+    /// A plate edge: `"x0"`, `"x1"`, `"y0"` or `"y1"` (reference point: the edge's midpoint).
+    #[serde(default)]
+    pub edge: Option<PlateEdge>,
+    /// A ring of a surface of revolution (reference point: the ring's centre on the z axis).
+    #[serde(default)]
+    pub ring: Option<RingAt>,
+    /// One node `[x, y, z]` (or `[x, y]` on a plate) [m] (reference point: the node).
+    #[serde(default)]
+    pub at: Option<Vec<f64>>,
 }
 
 /// `[pressure]`: a uniform pressure on the whole surface, acting along the surface normal and

@@ -16,8 +16,9 @@
 //! with its exact tangent (not symmetric) in the iteration matrix.
 
 use super::scene::{Input, Output, io, names::*, support_param};
-use super::{MeridianSection, RingAt, RingQuantity, ShellScene, SupportCondition};
+use super::{MeridianSection, RingAt, RingQuantity, ShellMotion, ShellScene, SupportCondition};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
+use crate::elements::Element;
 use crate::elements::node_frames::NodeFrames;
 use crate::elements::surface_load::{pressure_into, volume_part};
 use crate::elements::trapezoid_shell::{
@@ -30,10 +31,12 @@ use crate::linalg::CscPattern;
 use crate::meshers::plate::{PlateEdge, PlateMesh, line_weights, node_at_point};
 use crate::meshers::revolution::{MeridianEnd, MeridianPiece, RevolutionMesh};
 use crate::model::inputs::InputSignal;
+use crate::model::ports::{Channel, PortHost, Ports};
 use crate::model::nodes3d::{NodeLoad, NodeMotion};
 use crate::model::rates;
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::{ParamValues, names::*};
+use std::collections::BTreeMap;
 use crate::snapshot::{StateReader, StateWriter};
 use crate::variables::Value;
 use nalgebra::{SMatrix, SVector, Vector2, Vector3};
@@ -192,6 +195,56 @@ impl Geometry {
     }
 }
 
+impl Geometry {
+    /// The nodes of motion port `m` (scene entry `key`) and its reference point [m]: the
+    /// midpoint of the end nodes of a plate edge, the centre of a ring on the z axis, or the
+    /// node itself.
+    fn motion_group(&self, key: &str, m: &ShellMotion) -> Result<(Vec<usize>, [f64; 3]), String> {
+        match (&m.edge, &m.ring, &m.at, &self.plate) {
+            (Some(e), None, None, Some(plate)) => {
+                let nodes = plate.edge_nodes(*e);
+                let (a, b) = (self.nodes[nodes[0]], self.nodes[nodes[nodes.len() - 1]]);
+                let mid = std::array::from_fn(|d| 0.5 * (a[d] + b[d]));
+                Ok((nodes, mid))
+            }
+            (None, Some(r), None, None) => {
+                let nodes = self.ring(key, r)?.to_vec();
+                let z = self.nodes[nodes[0]].z;
+                Ok((nodes, [0.0, 0.0, z]))
+            }
+            (None, None, Some(at), _) => {
+                let k = self.node_at(key, at)?;
+                Ok((vec![k], self.nodes[k].into()))
+            }
+            _ => Err(format!(
+                "{key}: an edge of a plate, a ring of a surface of revolution or one node (at)"
+            )),
+        }
+    }
+}
+
+/// Reference points [m] of the motion ports of a scene (the start values of their position
+/// inputs), from the mesh at the default parameter values; `[0, 0, 0]` where that mesh
+/// cannot be built (the scene's errors are reported elsewhere).
+pub(super) fn motion_references(scene: &ShellScene) -> Vec<[f64; 3]> {
+    if scene.motions.is_empty() {
+        return vec![];
+    }
+    let geo = super::scene::params(scene)
+        .ok()
+        .and_then(|defs| geometry(scene, &ParamValues::defaults(&defs)).ok());
+    scene
+        .motions
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            geo.as_ref()
+                .and_then(|g| g.motion_group(&format!("motions[{i}]"), m).ok())
+                .map_or([0.0; 3], |(_, r)| r)
+        })
+        .collect()
+}
+
 /// Whether the constrained coordinates remove every rigid motion: the six rigid modes
 /// (translations; rotations about the centroid, positions scaled by the extent) restricted to
 /// the constrained coordinates have full rank.
@@ -252,6 +305,9 @@ pub struct Shell {
     gravity_load: Vec<f64>,
     loads: Vec<NodeLoad>,
     pressure: InputSignal,
+    /// Motion ports: three channels (x, y, z) per port, each driving that position
+    /// coordinate of every node of the group (their rotations are constrained).
+    ports: Ports,
     /// `+1`, or `−1` where a closed surface's element normals point inwards: the pressure and
     /// the volume are taken along the outward normal.
     orientation: f64,
@@ -327,6 +383,48 @@ impl Shell {
                 s.kind,
             );
         }
+        // motion ports: the group's positions follow the port, its rotations are held
+        let mut channels = Vec::with_capacity(scene.motions.len());
+        let mut port_node = vec![false; n_nodes];
+        for (i, m) in scene.motions.iter().enumerate() {
+            let key = format!("motions[{i}]");
+            let (nodes, reference) = geo.motion_group(&key, m)?;
+            for &k in &nodes {
+                if (0..NODE_DOFS).any(|d| constrained[k * NODE_DOFS + d]) {
+                    let x = geo.nodes[k];
+                    return Err(format!(
+                        "{key}: the node at [{}, {}, {}] m is already held by a support or another motion port",
+                        x.x, x.y, x.z
+                    ));
+                }
+            }
+            for &k in &nodes {
+                port_node[k] = true;
+                for d in 0..NODE_DOFS {
+                    constrained[k * NODE_DOFS + d] = true;
+                }
+            }
+            channels.push(
+                (0..3)
+                    .map(|d| Channel {
+                        members: nodes.iter().map(|&k| k * NODE_DOFS + d).collect(),
+                        reference: reference[d],
+                    })
+                    .collect::<Vec<_>>(),
+            );
+        }
+        let on_port = |key: &str, nodes: &[usize]| -> Result<(), String> {
+            match nodes.iter().find(|&&k| port_node[k]) {
+                Some(&k) => {
+                    let x = geo.nodes[k];
+                    Err(format!(
+                        "{key}: acts on the node at [{}, {}, {}] m, which a motion port moves (the load would go straight into the driver); put it elsewhere",
+                        x.x, x.y, x.z
+                    ))
+                }
+                None => Ok(()),
+            }
+        };
         let statics = matches!(p.get(SOLVER_STATIC), Some(Value::Boolean(true)));
         if statics && !holds_rigid_motion(&geo.nodes, &constrained) {
             return Err(format!(
@@ -373,6 +471,7 @@ impl Shell {
         let mut loads = Vec::with_capacity(scene.loads.len() + scene.line_loads.len());
         for (i, l) in scene.loads.iter().enumerate() {
             let k = geo.node_at(&format!("loads[{i}]"), &l.at)?;
+            on_port(&format!("loads[{i}]"), &[k])?;
             loads.push(NodeLoad::at_node(k, l.start(), false));
         }
         for (i, l) in scene.line_loads.iter().enumerate() {
@@ -386,6 +485,7 @@ impl Shell {
                     ));
                 }
             };
+            on_port(&key, &nodes)?;
             let pts: Vec<_> = nodes.iter().map(|&k| geo.nodes[k]).collect();
             let w = line_weights(&pts, closed);
             loads.push(NodeLoad::spread(
@@ -431,6 +531,7 @@ impl Shell {
         let mut gravity_load = vec![0.0; n_full];
         set.add_gravity(&q0, Some(&frames), &gravity, 1.0, &mut gravity_load);
         let n_free = asm.dofs.n_free();
+        let ports = Ports::grouped(&channels, &q0, p.real(SOLVER_MAX_STEP));
         let mut model = Self {
             set,
             positions,
@@ -440,6 +541,7 @@ impl Shell {
             gravity_load,
             loads,
             pressure: InputSignal::constant(scene.pressure.as_ref().map_or(0.0, |p| p.value)),
+            ports,
             orientation: 1.0,
             probes,
             ring_probes,
@@ -565,6 +667,7 @@ impl Shell {
                 Self::ring_value(q, &self.ring_probes[probe], quantity)
             }
             Output::Volume => self.orientation * self.signed_volume(q),
+            Output::Reaction { port, axis } => self.ports.force(self, port, axis),
             Output::Length => self.length_at(q),
             Output::Energy(k) => match k {
                 EnergyKind::Kinetic => self.kinetic_energy_at(q, v),
@@ -590,6 +693,10 @@ impl Shell {
                 frames: &self.frames,
             }
             .probe_rate(self.probes[probe].node, quantity, None),
+            // d/dt of the stiffness part of the reaction, K_c v (inertia rates neglected)
+            Output::Reaction { port, axis } => {
+                Some(self.ports.force_rate(self, port, axis, &self.v))
+            }
             _ => {
                 let mut work = [Vec::new(), Vec::new()];
                 Some(rates::along_motion(
@@ -607,6 +714,59 @@ impl Shell {
         match self.roles.inputs[input] {
             Input::Load { load, comp } => &mut self.loads[load].values[comp],
             Input::Pressure => &mut self.pressure,
+            Input::Motion { port, component } => self.ports.signal_mut(port, component),
+        }
+    }
+
+    /// Computes the interface Jacobian of the motion ports at the committed state unless it
+    /// is current ([`Ports::update_interface`]).
+    fn update_interface(&mut self) {
+        let mut ports = std::mem::take(&mut self.ports);
+        ports.update_interface(self);
+        self.ports = ports;
+    }
+
+    /// Calls `f(e, element, state, accelerations)` for every element that has a node in
+    /// `nodes` (all if `None`), at the committed state.
+    fn for_each_committed(
+        &self,
+        nodes: Option<&[bool]>,
+        mut f: impl FnMut(usize, &TrapezoidShell, &crate::elements::ElementState<ELEMENT_DOFS>),
+    ) {
+        self.set
+            .for_each_state(&self.q, &self.v, Some(&self.frames), |e, el, st| {
+                if nodes.is_none_or(|n| self.set.element_dofs(e).iter().any(|&i| n[i / NODE_DOFS])) {
+                    f(e, el, st);
+                }
+            });
+    }
+
+    /// Marks the nodes of the full coordinates `coords`.
+    fn node_mask(&self, coords: &[usize]) -> Vec<bool> {
+        let mut mask = vec![false; self.n_nodes];
+        for &i in coords {
+            mask[i / NODE_DOFS] = true;
+        }
+        mask
+    }
+
+    /// Pressure load per unit pressure [N/Pa] at the full coordinates `coords` (along the
+    /// outward normal of a closed surface), of the committed state.
+    fn unit_pressure_load(&self, coords: &[usize], out: &mut [f64]) {
+        let row: BTreeMap<usize, usize> = coords.iter().enumerate().map(|(k, &i)| (i, k)).collect();
+        out.fill(0.0);
+        let mut f = SVector::<f64, 12>::zeros();
+        for e in 0..self.positions.len() {
+            let d = self.positions.dofs(e);
+            if !d.iter().any(|i| row.contains_key(i)) {
+                continue;
+            }
+            pressure_into(&self.element_positions(e, &self.q), self.orientation, &mut f, None);
+            for (a, i) in d.iter().enumerate() {
+                if let Some(&k) = row.get(i) {
+                    out[k] += f[a];
+                }
+            }
         }
     }
 
@@ -672,6 +832,9 @@ impl Model for Shell {
     fn set_input(&mut self, input: usize, value: f64) {
         let t = self.t;
         self.input_signal(input).set(value, t);
+        if matches!(self.roles.inputs[input], Input::Motion { .. }) {
+            self.update_interface();
+        }
     }
 
     fn set_input_derivative(
@@ -684,6 +847,9 @@ impl Model for Shell {
             return Err(format!("derivative order {order} not supported (1 or 2)"));
         }
         self.input_signal(input).set_derivative(order, value);
+        if matches!(self.roles.inputs[input], Input::Motion { .. }) {
+            self.update_interface();
+        }
         Ok(())
     }
 
@@ -695,15 +861,60 @@ impl Model for Shell {
         self.output_rate(self.roles.outputs[output])
     }
 
+    /// Reactions: `−K_int` for the port positions (times `τ` for the velocities,
+    /// [`Ports::force_input_derivative`]) and the pressure load at the group's nodes per unit
+    /// pressure; no other input reaches a reaction (loads on port nodes are refused), and the
+    /// other outputs are of the committed state.
+    fn output_input_derivative(&mut self, output: usize, input: usize) -> Option<f64> {
+        let Output::Reaction { port, axis } = self.roles.outputs[output] else {
+            return None;
+        };
+        Some(match self.roles.inputs[input] {
+            Input::Motion {
+                port: p2,
+                component,
+            } => {
+                let mut ports = std::mem::take(&mut self.ports);
+                let d = ports.force_input_derivative(self, port, axis, p2, component);
+                self.ports = ports;
+                d
+            }
+            Input::Pressure => {
+                let members = self.ports.channel_members(port, axis);
+                let mut f = vec![0.0; members.len()];
+                self.unit_pressure_load(members, &mut f);
+                f.iter().sum()
+            }
+            Input::Load { .. } => 0.0,
+        })
+    }
+
+    fn hold_prescribed_motion(&mut self, hold: bool) {
+        self.ports.hold(hold);
+    }
+
+    fn begin_communication_step(&mut self, t0: f64, t1: f64) {
+        self.ports.begin_communication_step(t0, t1);
+    }
+
     fn accept(&mut self, state: &mut DynState) {
         let mut q = std::mem::take(&mut self.q);
         self.asm.dofs.expand(&state.q, &mut q);
+        self.ports.apply(state.t, 1.0, Some(&mut q), None, None);
         self.frames.absorb(&mut q);
         self.asm.dofs.restrict(&q, &mut state.q);
         self.q = q;
         self.asm.dofs.expand(&state.v, &mut self.v);
         self.asm.dofs.expand(&state.acc, &mut self.acc);
+        self.ports.apply(
+            state.t,
+            1.0,
+            None,
+            Some(&mut self.v),
+            Some(&mut self.acc),
+        );
         self.t = state.t;
+        self.ports.commit(self.t, &self.q, &self.v);
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
@@ -727,6 +938,7 @@ impl Model for Shell {
             l.save(w);
         }
         self.pressure.save(w);
+        self.ports.save(w);
         Ok(())
     }
 
@@ -741,6 +953,9 @@ impl Model for Shell {
             l.restore(r).map_err(e)?;
         }
         self.pressure = InputSignal::restore(r).map_err(e)?;
+        self.ports.restore(r).map_err(e)?;
+        self.ports.commit(self.t, &self.q, &self.v);
+        self.update_interface();
         Ok(())
     }
 }
@@ -771,6 +986,13 @@ impl MechanicalSystem for Shell {
         self.asm.dofs.expand(q, &mut self.qw);
         self.asm.dofs.expand(v, &mut self.vw);
         self.asm.dofs.expand(a, &mut self.aw);
+        self.ports.apply(
+            t,
+            load_factor,
+            Some(&mut self.qw),
+            Some(&mut self.vw),
+            Some(&mut self.aw),
+        );
         self.assemble(t, load_factor, 1.0, r, jac)
     }
 
@@ -797,7 +1019,11 @@ impl MechanicalSystem for Shell {
         self.qmid = qm;
         self.asm.dofs.expand(v, &mut self.vw);
         self.asm.dofs.expand(a, &mut self.aw);
-        self.assemble(0.5 * (t_a + t_b), 1.0, 0.5, r, jac)
+        let t_mid = 0.5 * (t_a + t_b);
+        self.ports.apply_mean(t_a, t_b, &mut self.qw);
+        self.ports
+            .apply(t_mid, 1.0, None, Some(&mut self.vw), Some(&mut self.aw));
+        self.assemble(t_mid, 1.0, 0.5, r, jac)
     }
 
     fn rebase(&mut self, q: &mut [f64]) {
@@ -806,5 +1032,99 @@ impl MechanicalSystem for Shell {
         self.frames.absorb(&mut full);
         self.asm.dofs.restrict(&full, q);
         self.q = full;
+    }
+}
+
+/// The rows and free–free matrix of the shell at its motion ports (the position coordinates of
+/// the groups' nodes), at the committed state.
+impl PortHost for Shell {
+    fn free_index(&self, full: usize) -> Option<usize> {
+        self.asm.dofs.free_index(full)
+    }
+
+    /// `M a + f_int − Q_g − f_pressure` at the coordinates, from the elements at their nodes
+    /// (no point or line load acts on a port node: `Shell::build` refuses them).
+    fn port_residual(&self, coords: &[usize], out: &mut [f64]) {
+        let row: BTreeMap<usize, usize> = coords.iter().enumerate().map(|(k, &i)| (i, k)).collect();
+        let mask = self.node_mask(coords);
+        out.fill(0.0);
+        let mut fe = SVector::<f64, ELEMENT_DOFS>::zeros();
+        self.for_each_committed(Some(&mask), |e, el, st| {
+            let ae = self.set.gather(e, &self.acc);
+            el.residual_into(st, &ae, &self.gravity, &mut fe, None);
+            for (a, i) in self.set.element_dofs(e).iter().enumerate() {
+                if let Some(&k) = row.get(i) {
+                    out[k] += fe[a];
+                }
+            }
+        });
+        let p = self.pressure.at(self.t);
+        if p != 0.0 {
+            let mut unit = vec![0.0; coords.len()];
+            self.unit_pressure_load(coords, &mut unit);
+            for (o, u) in out.iter_mut().zip(unit) {
+                *o -= p * u;
+            }
+        }
+    }
+
+    /// Rows of the elements at the nodes (`K_T + c_m M`, element after element), then of the
+    /// follower pressure's tangent.
+    fn port_rows(&self, coords: &[usize], c_m: f64, add: &mut dyn FnMut(usize, usize, f64)) {
+        let row: BTreeMap<usize, usize> = coords.iter().enumerate().map(|(k, &i)| (i, k)).collect();
+        let mask = self.node_mask(coords);
+        let coeffs = JacobianCoeffs {
+            mass: c_m,
+            damping: 0.0,
+            stiffness: 1.0,
+        };
+        let (mut fe, mut me) = (
+            SVector::<f64, ELEMENT_DOFS>::zeros(),
+            SMatrix::<f64, ELEMENT_DOFS, ELEMENT_DOFS>::zeros(),
+        );
+        self.for_each_committed(Some(&mask), |e, el, st| {
+            let ae = self.set.gather(e, &self.acc);
+            el.residual_into(st, &ae, &self.gravity, &mut fe, Some((coeffs, &mut me)));
+            let dofs = self.set.element_dofs(e);
+            for (a, i) in dofs.iter().enumerate() {
+                if let Some(&k) = row.get(i) {
+                    for (j, &col) in dofs.iter().enumerate() {
+                        add(k, col, me[(a, j)]);
+                    }
+                }
+            }
+        });
+        let p = self.pressure.at(self.t) * self.orientation;
+        if p != 0.0 {
+            let (mut f, mut k) = (SVector::<f64, 12>::zeros(), SMatrix::<f64, 12, 12>::zeros());
+            for e in 0..self.positions.len() {
+                let d = self.positions.dofs(e);
+                if !d.iter().any(|i| row.contains_key(i)) {
+                    continue;
+                }
+                pressure_into(&self.element_positions(e, &self.q), p, &mut f, Some(&mut k));
+                for (a, i) in d.iter().enumerate() {
+                    if let Some(&r) = row.get(i) {
+                        for (j, &col) in d.iter().enumerate() {
+                            add(r, col, -k[(a, j)]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn free_matrix(&mut self, c_m: f64, vals: &mut [f64]) {
+        self.qw.copy_from_slice(&self.q);
+        self.vw.copy_from_slice(&self.v);
+        self.aw.copy_from_slice(&self.acc);
+        let coeffs = JacobianCoeffs {
+            mass: c_m,
+            damping: 0.0,
+            stiffness: 1.0,
+        };
+        let mut r = vec![0.0; self.asm.dofs.n_free()];
+        // a non-finite state has no interface matrix worth keeping: the values say so
+        let _ = self.assemble(self.t, 1.0, 1.0, &mut r, Some((coeffs, vals)));
     }
 }

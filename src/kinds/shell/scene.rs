@@ -24,6 +24,14 @@ pub enum Input {
     },
     /// The uniform pressure [Pa].
     Pressure,
+    /// Component `component` of motion port `port`: 0-2 position x, y, z of its reference
+    /// point [m], 3-5 velocity x, y, z [m/s].
+    Motion {
+        /// Index into the scene's motion ports.
+        port: usize,
+        /// 0..6: x, y, z, vx, vy, vz.
+        component: usize,
+    },
 }
 
 /// What an output of a shell reports.
@@ -49,6 +57,13 @@ pub enum Output {
     Length,
     /// An energy.
     Energy(EnergyKind),
+    /// Force [N] the shell exerts on the driver of motion port `port` along global `axis`.
+    Reaction {
+        /// Index into the scene's motion ports.
+        port: usize,
+        /// 0..3: x, y, z.
+        axis: usize,
+    },
 }
 
 /// Parameter and output names of the shell (public interface: never rename silently).
@@ -94,6 +109,13 @@ pub fn support_param(e: PlateEdge) -> &'static str {
         PlateEdge::Y1 => SUPPORT_Y1,
     }
 }
+
+/// Input suffixes of a motion port: position x, y, z [m] and velocity x, y, z [m/s] of its
+/// reference point.
+pub const MOTION_INPUTS: [&str; 6] = ["x", "y", "z", "vx", "vy", "vz"];
+
+/// Output suffixes of a motion port: the force on the driver [N].
+pub const REACTIONS: [&str; 3] = ["fx", "fy", "fz"];
 
 /// Largest number of elements of a shell mesh.
 pub const MAX_ELEMENTS: i64 = 1_000_000;
@@ -340,6 +362,27 @@ pub fn check(s: &ShellScene) -> Result<(), Vec<String>> {
         }
         reject_repeated(&key, &p.outputs, &mut errs);
     }
+    for (i, m) in s.motions.iter().enumerate() {
+        let key = format!("motions[{i}]");
+        check_identifier(&key, &m.name, &mut errs);
+        match (&m.edge, &m.ring, &m.at) {
+            (Some(_), None, None) => {
+                if !plate {
+                    only_plate(format!("{key}.edge"), &mut errs);
+                }
+            }
+            (None, Some(r), None) => {
+                if plate {
+                    only_revolution(format!("{key}.ring"), &mut errs);
+                }
+                check_ring(&key, r, &mut errs);
+            }
+            (None, None, Some(at)) => check_point(&key, at, plate, &mut errs),
+            _ => errs.push(format!(
+                "{key}: give exactly one of edge (a plate edge), ring (a ring of a surface of revolution) or at (one node)"
+            )),
+        }
+    }
     check_variable_names(s, &mut errs);
     if plate && (s.outputs.volume || s.outputs.length) {
         errs.push(
@@ -377,6 +420,11 @@ fn check_variable_names(s: &ShellScene, errs: &mut Vec<String>) {
                 RingQuantity::Z => "z",
             };
             vars.push((format!("{}.{suffix}", p.name), format!("ring_probes[{i}]")));
+        }
+    }
+    for (i, m) in s.motions.iter().enumerate() {
+        for c in MOTION_INPUTS.iter().chain(&REACTIONS) {
+            vars.push((format!("{}.{c}", m.name), format!("motions[{i}]")));
         }
     }
     if s.outputs.volume {
@@ -490,8 +538,8 @@ fn ring_text(r: &RingAt) -> String {
     }
 }
 
-/// Inputs (load components, pressure) and outputs (probes, rings, volume, length, energies)
-/// of a shell scene.
+/// Inputs (load components, pressure, motion ports) and outputs (port reactions, probes,
+/// rings, volume, length, energies) of a shell scene.
 pub fn io(s: &ShellScene) -> KindIo<Input, Output> {
     let mut io = KindIo::default();
     let declare_load =
@@ -544,6 +592,58 @@ pub fn io(s: &ShellScene) -> KindIo<Input, Output> {
             "Uniform pressure on the whole surface along its normal (follower load; +z on a plate, outwards on a closed surface of revolution)".into(),
             Input::Pressure,
         );
+    }
+    let refs = super::model::motion_references(s);
+    // Direct feedthrough at a communication point (`Ports::force`): a reaction moves with
+    // every port's prescribed position through the interface Jacobian (positions and
+    // velocities: a position set at an earlier communication point is extrapolated with the
+    // velocity input), and with the pressure, which loads the port's nodes (loads on port
+    // nodes are refused by `Shell::build`).
+    let mut deps: Vec<String> = vec![];
+    for m in &s.motions {
+        deps.extend(MOTION_INPUTS.map(|c| format!("{}.{c}", m.name)));
+    }
+    if let Some(p) = &s.pressure {
+        deps.push(format!("{}.pressure", p.name));
+    }
+    let deps: Vec<&str> = deps.iter().map(String::as_str).collect();
+    for (port, m) in s.motions.iter().enumerate() {
+        let what = match (&m.edge, &m.ring, &m.at) {
+            (Some(e), ..) => format!("the plate edge {} (reference point: its midpoint)", e.name()),
+            (_, Some(r), _) => format!("{} (reference point: its centre on the z axis)", ring_text(r)),
+            (.., Some(at)) => format!("the node at {}", point_text(at)),
+            _ => String::new(),
+        };
+        let start = refs.get(port).copied().unwrap_or([0.0; 3]);
+        for (component, suffix) in MOTION_INPUTS.into_iter().enumerate() {
+            let axis = ["x", "y", "z"][component % 3];
+            let (start, unit, kind) = if component < 3 {
+                (start[component], Unit::M, "position")
+            } else {
+                (0.0, Unit::MPerS, "velocity")
+            };
+            io.input(
+                format!("{}.{suffix}", m.name),
+                start,
+                unit,
+                format!(
+                    "Prescribed {kind} {axis} of the reference point of {what}, whose nodes translate rigidly with it, their rotations held (motion port; a position is extrapolated inside a step with the velocity input)"
+                ),
+                Input::Motion { port, component },
+            );
+        }
+        for (axis, suffix) in REACTIONS.into_iter().enumerate() {
+            io.output(
+                format!("{}.{suffix}", m.name),
+                Unit::N,
+                format!(
+                    "Force exerted by the shell on the body driving the motion port ({what}), global {} component",
+                    ["x", "y", "z"][axis]
+                ),
+                Output::Reaction { port, axis },
+            )
+            .depending_on(&deps);
+        }
     }
     for (i, p) in s.probes.iter().enumerate() {
         for q in &p.outputs {
