@@ -179,7 +179,10 @@ impl Ports {
         };
         for p in ports {
             for c in p {
-                assert!(!c.members.is_empty(), "a channel drives a coordinate at least");
+                assert!(
+                    !c.members.is_empty(),
+                    "a channel drives a coordinate at least"
+                );
                 let k = s.reference.len();
                 for &i in &c.members {
                     let before = s.channel_of.insert(i, k);
@@ -195,7 +198,8 @@ impl Ports {
             s.offsets.push(s.reference.len());
             s.signals
                 .extend(p.iter().map(|c| InputSignal::constant(c.reference)));
-            s.signals.extend(p.iter().map(|_| InputSignal::constant(0.0)));
+            s.signals
+                .extend(p.iter().map(|_| InputSignal::constant(0.0)));
         }
         s.q = s.reference.clone();
         s.v = vec![0.0; s.reference.len()];
@@ -341,6 +345,12 @@ impl Ports {
         }
     }
 
+    /// Drops the interface Jacobian (an input other than a port's changed the tangent, e.g. a
+    /// follower pressure); the model recomputes it with [`Ports::update_interface`].
+    pub fn clear_interface(&mut self) {
+        self.interface.matrix = None;
+    }
+
     /// Computes the interface Jacobian at the committed state unless it is current.
     pub fn update_interface<H: PortHost>(&mut self, host: &mut H) {
         if self.interface.matrix.is_none() && !self.is_empty() {
@@ -400,8 +410,7 @@ impl Ports {
                     x.resize(n_free, 0.0);
                     let p = self.port_of(j);
                     hr.port_rows(self.coords(p), 0.0, &mut |r, col, val| {
-                        if let (true, Some(f)) = (self.row_channel(p, r) == j, hr.free_index(col))
-                        {
+                        if let (true, Some(f)) = (self.row_channel(p, r) == j, hr.free_index(col)) {
                             x[f] += val;
                         }
                     });
@@ -751,16 +760,26 @@ mod tests {
         ports.signal_mut(0, 0).set(reference + 0.05, 0.0);
         let mut q = [0.0; 3];
         ports.apply(0.0, 1.0, Some(&mut q), None, None);
-        assert!((q[0] - 0.15).abs() < 1e-15 && (q[2] - 0.35).abs() < 1e-15, "{q:?}");
+        assert!(
+            (q[0] - 0.15).abs() < 1e-15 && (q[2] - 0.35).abs() < 1e-15,
+            "{q:?}"
+        );
         assert_eq!(q[1], 0.0, "free coordinate untouched");
         ports.apply(0.0, 0.5, Some(&mut q), None, None);
-        assert!((q[0] - 0.125).abs() < 1e-15 && (q[2] - 0.325).abs() < 1e-15, "{q:?}");
+        assert!(
+            (q[0] - 0.125).abs() < 1e-15 && (q[2] - 0.325).abs() < 1e-15,
+            "{q:?}"
+        );
         // committing the applied state: the channel is at the prescribed position exactly
         ports.apply(0.0, 1.0, Some(&mut q), None, None);
         ports.commit(0.0, &q, &[0.0; 3]);
         assert_eq!(ports.position(0, 0), reference + 0.05);
         host.q = [q[0], 0.04, q[2]];
         let r = K1 * (q[0] - 0.04) + K2 * (q[2] - 0.04);
-        assert_eq!(ports.force(&host, 0, 0), -r, "no extrapolation once committed");
+        assert_eq!(
+            ports.force(&host, 0, 0),
+            -r,
+            "no extrapolation once committed"
+        );
     }
 }

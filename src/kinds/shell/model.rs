@@ -31,15 +31,15 @@ use crate::linalg::CscPattern;
 use crate::meshers::plate::{PlateEdge, PlateMesh, line_weights, node_at_point};
 use crate::meshers::revolution::{MeridianEnd, MeridianPiece, RevolutionMesh};
 use crate::model::inputs::InputSignal;
-use crate::model::ports::{Channel, PortHost, Ports};
 use crate::model::nodes3d::{NodeLoad, NodeMotion};
+use crate::model::ports::{Channel, PortHost, Ports};
 use crate::model::rates;
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::{ParamValues, names::*};
-use std::collections::BTreeMap;
 use crate::snapshot::{StateReader, StateWriter};
 use crate::variables::Value;
 use nalgebra::{SMatrix, SVector, Vector2, Vector3};
+use std::collections::BTreeMap;
 
 /// The reference mesh of either geometry: nodes, elements (counter-clockwise about their
 /// normal), rings of a surface of revolution with their arc lengths, and what names the mesh
@@ -718,6 +718,20 @@ impl Shell {
         }
     }
 
+    /// Keeps the interface Jacobian of the motion ports current after input `input` changed:
+    /// a motion input needs it for the extrapolated reactions, and the pressure changes the
+    /// tangent (its follower part) it is made of.
+    fn after_input(&mut self, input: usize) {
+        match self.roles.inputs[input] {
+            Input::Motion { .. } => self.update_interface(),
+            Input::Pressure if !self.ports.is_empty() => {
+                self.ports.clear_interface();
+                self.update_interface();
+            }
+            _ => {}
+        }
+    }
+
     /// Computes the interface Jacobian of the motion ports at the committed state unless it
     /// is current ([`Ports::update_interface`]).
     fn update_interface(&mut self) {
@@ -735,7 +749,8 @@ impl Shell {
     ) {
         self.set
             .for_each_state(&self.q, &self.v, Some(&self.frames), |e, el, st| {
-                if nodes.is_none_or(|n| self.set.element_dofs(e).iter().any(|&i| n[i / NODE_DOFS])) {
+                if nodes.is_none_or(|n| self.set.element_dofs(e).iter().any(|&i| n[i / NODE_DOFS]))
+                {
                     f(e, el, st);
                 }
             });
@@ -761,7 +776,12 @@ impl Shell {
             if !d.iter().any(|i| row.contains_key(i)) {
                 continue;
             }
-            pressure_into(&self.element_positions(e, &self.q), self.orientation, &mut f, None);
+            pressure_into(
+                &self.element_positions(e, &self.q),
+                self.orientation,
+                &mut f,
+                None,
+            );
             for (a, i) in d.iter().enumerate() {
                 if let Some(&k) = row.get(i) {
                     out[k] += f[a];
@@ -832,9 +852,7 @@ impl Model for Shell {
     fn set_input(&mut self, input: usize, value: f64) {
         let t = self.t;
         self.input_signal(input).set(value, t);
-        if matches!(self.roles.inputs[input], Input::Motion { .. }) {
-            self.update_interface();
-        }
+        self.after_input(input);
     }
 
     fn set_input_derivative(
@@ -847,9 +865,7 @@ impl Model for Shell {
             return Err(format!("derivative order {order} not supported (1 or 2)"));
         }
         self.input_signal(input).set_derivative(order, value);
-        if matches!(self.roles.inputs[input], Input::Motion { .. }) {
-            self.update_interface();
-        }
+        self.after_input(input);
         Ok(())
     }
 
@@ -906,13 +922,8 @@ impl Model for Shell {
         self.q = q;
         self.asm.dofs.expand(&state.v, &mut self.v);
         self.asm.dofs.expand(&state.acc, &mut self.acc);
-        self.ports.apply(
-            state.t,
-            1.0,
-            None,
-            Some(&mut self.v),
-            Some(&mut self.acc),
-        );
+        self.ports
+            .apply(state.t, 1.0, None, Some(&mut self.v), Some(&mut self.acc));
         self.t = state.t;
         self.ports.commit(self.t, &self.q, &self.v);
     }

@@ -609,8 +609,14 @@ pub fn io(s: &ShellScene) -> KindIo<Input, Output> {
     let deps: Vec<&str> = deps.iter().map(String::as_str).collect();
     for (port, m) in s.motions.iter().enumerate() {
         let what = match (&m.edge, &m.ring, &m.at) {
-            (Some(e), ..) => format!("the plate edge {} (reference point: its midpoint)", e.name()),
-            (_, Some(r), _) => format!("{} (reference point: its centre on the z axis)", ring_text(r)),
+            (Some(e), ..) => format!(
+                "the plate edge {} (reference point: its midpoint)",
+                e.name()
+            ),
+            (_, Some(r), _) => format!(
+                "{} (reference point: its centre on the z axis)",
+                ring_text(r)
+            ),
             (.., Some(at)) => format!("the node at {}", point_text(at)),
             _ => String::new(),
         };
