@@ -22,7 +22,7 @@ use flexfmu::variables::{Role, Value, VariableTable};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
-/// Every shipped scene plus the test scene.
+/// Every shipped scene plus the test scenes (planar beam, shell).
 fn scenes() -> Vec<PathBuf> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let mut out: Vec<PathBuf> = std::fs::read_dir(root.join("scenes"))
@@ -33,6 +33,7 @@ fn scenes() -> Vec<PathBuf> {
     out.sort();
     assert!(out.len() >= 10, "shipped scenes: {out:?}");
     out.push(root.join("tests/data/motion_port_loads.toml"));
+    out.push(root.join("tests/data/shell_motion_ports.toml"));
     out
 }
 

@@ -345,12 +345,6 @@ impl Ports {
         }
     }
 
-    /// Drops the interface Jacobian (an input other than a port's changed the tangent, e.g. a
-    /// follower pressure); the model recomputes it with [`Ports::update_interface`].
-    pub fn clear_interface(&mut self) {
-        self.interface.matrix = None;
-    }
-
     /// Computes the interface Jacobian at the committed state unless it is current.
     pub fn update_interface<H: PortHost>(&mut self, host: &mut H) {
         if self.interface.matrix.is_none() && !self.is_empty() {

@@ -308,6 +308,10 @@ pub struct Shell {
     /// Motion ports: three channels (x, y, z) per port, each driving that position
     /// coordinate of every node of the group (their rotations are constrained).
     ports: Ports,
+    /// Pressure [Pa] of the committed state: the follower tangent of the ports' interface
+    /// Jacobian is taken with it (so the Jacobian is a function of the committed state, not of
+    /// the pressure input set since).
+    port_pressure: f64,
     /// `+1`, or `−1` where a closed surface's element normals point inwards: the pressure and
     /// the volume are taken along the outward normal.
     orientation: f64,
@@ -542,6 +546,7 @@ impl Shell {
             loads,
             pressure: InputSignal::constant(scene.pressure.as_ref().map_or(0.0, |p| p.value)),
             ports,
+            port_pressure: scene.pressure.as_ref().map_or(0.0, |p| p.value),
             orientation: 1.0,
             probes,
             ring_probes,
@@ -718,17 +723,10 @@ impl Shell {
         }
     }
 
-    /// Keeps the interface Jacobian of the motion ports current after input `input` changed:
-    /// a motion input needs it for the extrapolated reactions, and the pressure changes the
-    /// tangent (its follower part) it is made of.
+    /// A motion input needs the interface Jacobian for the extrapolated reactions.
     fn after_input(&mut self, input: usize) {
-        match self.roles.inputs[input] {
-            Input::Motion { .. } => self.update_interface(),
-            Input::Pressure if !self.ports.is_empty() => {
-                self.ports.clear_interface();
-                self.update_interface();
-            }
-            _ => {}
+        if matches!(self.roles.inputs[input], Input::Motion { .. }) {
+            self.update_interface();
         }
     }
 
@@ -925,6 +923,7 @@ impl Model for Shell {
         self.ports
             .apply(state.t, 1.0, None, Some(&mut self.v), Some(&mut self.acc));
         self.t = state.t;
+        self.port_pressure = self.pressure.at(self.t);
         self.ports.commit(self.t, &self.q, &self.v);
     }
 
@@ -949,6 +948,7 @@ impl Model for Shell {
             l.save(w);
         }
         self.pressure.save(w);
+        w.f64(self.port_pressure);
         self.ports.save(w);
         Ok(())
     }
@@ -964,6 +964,7 @@ impl Model for Shell {
             l.restore(r).map_err(e)?;
         }
         self.pressure = InputSignal::restore(r).map_err(e)?;
+        self.port_pressure = r.f64().map_err(e)?;
         self.ports.restore(r).map_err(e)?;
         self.ports.commit(self.t, &self.q, &self.v);
         self.update_interface();
@@ -1080,7 +1081,7 @@ impl PortHost for Shell {
     }
 
     /// Rows of the elements at the nodes (`K_T + c_m M`, element after element), then of the
-    /// follower pressure's tangent.
+    /// follower pressure's tangent at the committed pressure.
     fn port_rows(&self, coords: &[usize], c_m: f64, add: &mut dyn FnMut(usize, usize, f64)) {
         let row: BTreeMap<usize, usize> = coords.iter().enumerate().map(|(k, &i)| (i, k)).collect();
         let mask = self.node_mask(coords);
@@ -1105,7 +1106,7 @@ impl PortHost for Shell {
                 }
             }
         });
-        let p = self.pressure.at(self.t) * self.orientation;
+        let p = self.port_pressure * self.orientation;
         if p != 0.0 {
             let (mut f, mut k) = (SVector::<f64, 12>::zeros(), SMatrix::<f64, 12, 12>::zeros());
             for e in 0..self.positions.len() {
@@ -1135,7 +1136,12 @@ impl PortHost for Shell {
             stiffness: 1.0,
         };
         let mut r = vec![0.0; self.asm.dofs.n_free()];
+        let input = std::mem::replace(
+            &mut self.pressure,
+            InputSignal::constant(self.port_pressure),
+        );
         // a non-finite state has no interface matrix worth keeping: the values say so
         let _ = self.assemble(self.t, 1.0, 1.0, &mut r, Some((coeffs, vals)));
+        self.pressure = input;
     }
 }
