@@ -4,6 +4,7 @@
 
 mod factory;
 pub mod inputs;
+pub mod modal;
 pub mod nodes3d;
 pub mod ports;
 pub mod rates;

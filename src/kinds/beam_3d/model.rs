@@ -464,45 +464,15 @@ impl Beam3d {
         check_finite(r, jac.as_ref().map(|(_, vals)| &**vals))
     }
 
-    /// The element mass matrices assembled into a dense matrix of the free coordinates at the
-    /// committed state (for modal analysis in tests; not used by the solvers).
+    /// The mass and stiffness matrices of the free coordinates at the committed state, dense
+    /// (for modal analysis in tests; not used by the solvers).
     pub fn dense_matrices(&mut self) -> (nalgebra::DMatrix<f64>, nalgebra::DMatrix<f64>) {
         let n = self.n_free();
         let mut q = vec![0.0; n];
         let mut v = vec![0.0; n];
         self.free_state(&mut q, &mut v);
-        let zeros = vec![0.0; n];
-        let mut r = vec![0.0; n];
-        let mut dense = |c: JacobianCoeffs, s: &mut Self| {
-            let mut vals = vec![0.0; s.asm.pattern.nnz()];
-            s.residual(s.t, &q, &zeros, &zeros, 0.0, &mut r, Some((c, &mut vals)))
-                .expect("finite");
-            let p = &s.asm.pattern;
-            let mut m = nalgebra::DMatrix::zeros(n, n);
-            for col in 0..n {
-                for k in p.col_ptr()[col]..p.col_ptr()[col + 1] {
-                    m[(p.row_idx()[k], col)] = vals[k];
-                }
-            }
-            m
-        };
-        let mm = dense(
-            JacobianCoeffs {
-                mass: 1.0,
-                damping: 0.0,
-                stiffness: 0.0,
-            },
-            self,
-        );
-        let kk = dense(
-            JacobianCoeffs {
-                mass: 0.0,
-                damping: 0.0,
-                stiffness: 1.0,
-            },
-            self,
-        );
-        (mm, kk)
+        let t = self.t;
+        crate::model::modal::dense_matrices(self, t, &q).expect("finite")
     }
 }
 
