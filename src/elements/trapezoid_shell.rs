@@ -868,6 +868,45 @@ impl TrapezoidShell {
         std::array::from_fn(|i| ev[i])
     }
 
+    /// The element's free–free elastic modes (Eqs. 4–10): `Ω = diag(ω²)` [rad²/s²] and the
+    /// mass-normalised mode shapes `H` (24 × 18, `Hᵀ M H = I`, `Hᵀ (Pᵀ K P) H = Ω`), the six
+    /// rigid modes removed. Computed on demand.
+    pub fn free_free_modes(&self) -> (SVector<f64, 18>, SMatrix<f64, ELEMENT_DOFS, 18>) {
+        let kp = self.proj.transpose() * self.k_linear * self.proj;
+        let l = self.mass.cholesky().expect("mass is positive definite");
+        let li = l.l().try_inverse().expect("triangular");
+        let a = li * kp * li.transpose();
+        let eig = (0.5 * (a + a.transpose())).symmetric_eigen();
+        let mut order: Vec<usize> = (0..ELEMENT_DOFS).collect();
+        order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+        let mut omega = SVector::<f64, 18>::zeros();
+        let mut h = SMatrix::<f64, ELEMENT_DOFS, 18>::zeros();
+        for (c, &i) in order[6..].iter().enumerate() {
+            omega[c] = eig.eigenvalues[i];
+            h.set_column(c, &(li.transpose() * eig.eigenvectors.column(i)));
+        }
+        (omega, h)
+    }
+
+    /// The paper's elastic coordinates `Δq = Hᵀ M ΔX` (Eq. 5–6) at a state, for the modes `h`
+    /// of [`Self::free_free_modes`]; with the linear local energy the strain energy is
+    /// `½ Δqᵀ Ω Δq`.
+    pub fn elastic_coordinates(
+        &self,
+        s: &ElementState<ELEMENT_DOFS>,
+        h: &SMatrix<f64, ELEMENT_DOFS, 18>,
+    ) -> SVector<f64, 18> {
+        let (x, r) = nodes_of(s);
+        let f = CurrentFrame::new(&x, false);
+        let mut d = self.local_deflection(&f, &x, &r);
+        for i in 0..4 {
+            let v = d.fixed_rows::<3>(6 * i + 3).into_owned();
+            let (g, _, _) = arcsine_ratio(v.norm_squared());
+            d.fixed_rows_mut::<3>(6 * i + 3).copy_from(&(v * g));
+        }
+        h.transpose() * (self.mass * d)
+    }
+
     /// Deflections in SCF `ΔX` (24): `[Eᵀ(x_i − c) − ρ_i ; axial(Eᵀ R_i E0)]`.
     fn local_deflection(
         &self,

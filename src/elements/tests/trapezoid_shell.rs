@@ -7,7 +7,7 @@ use crate::elements::Element;
 use crate::elements::conformance::{Case, Config, rigid_motion};
 use crate::elements::rotation::exp_so3;
 use crate::elements::trapezoid_shell::*;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, SMatrix, Vector3};
 
 pub(crate) fn steel(thickness: f64) -> ShellMaterial {
     ShellMaterial {
@@ -488,6 +488,48 @@ fn cantilever_strip_matches_beam_theory() {
             assert!(
                 (w / exact - 1.0).abs() < tol,
                 "{bending:?} n = {n}: {w} vs {exact}"
+            );
+        }
+    }
+}
+
+/// The paper's modal form (Eqs. 5–10): with the linear local energy, the strain energy of a
+/// large deformed state equals `½ Δqᵀ Ω Δq` of the elastic coordinates `Δq = Hᵀ M ΔX` in the
+/// mass-normalised free–free modes.
+#[test]
+fn strain_energy_is_the_modal_energy() {
+    for shape in [Shape::Rectangle, Shape::Trapezoid, Shape::General] {
+        let c = case(shape, opts(Bending::V2, false));
+        let el = &c.element;
+        let (omega, h) = el.free_free_modes();
+        let mh = el.local_mass() * h;
+        let ortho = h.transpose() * mh;
+        assert!(
+            (ortho - SMatrix::<f64, 18, 18>::identity()).norm() < 1e-9,
+            "HᵀMH"
+        );
+        for state in &c.states[1..] {
+            let frames: Vec<crate::elements::Frame> = state
+                .r_ref
+                .iter()
+                .enumerate()
+                .map(|(i, r)| crate::elements::Frame {
+                    rot: r * exp_so3(&state.q.fixed_rows::<3>(6 * i + 3).into_owned()),
+                    tangent: Matrix3::identity(),
+                })
+                .collect();
+            let s = crate::elements::ElementState {
+                q: state.q,
+                v: state.v,
+                frames: &frames,
+            };
+            let dq = el.elastic_coordinates(&s, &h);
+            let modal = 0.5 * dq.dot(&omega.component_mul(&dq));
+            let u = el.strain_energy_at(&s);
+            assert!(
+                (modal - u).abs() < 1e-9 * u,
+                "{shape:?} {}: {modal} vs {u}",
+                state.label
             );
         }
     }
