@@ -63,7 +63,8 @@ fn io(vars: &VariableTable) -> Io {
     io
 }
 
-/// A small change of an input, by unit, that moves a port, turns a pulley or loads the body.
+/// A small change of an input, by unit, that moves a port, turns a pulley or loads the body
+/// (forces, moments, pressures).
 fn nudge(unit: Option<Unit>) -> f64 {
     match unit {
         Some(Unit::M) => 1e-3,
@@ -72,6 +73,7 @@ fn nudge(unit: Option<Unit>) -> f64 {
         Some(Unit::RadPerS) => 0.5,
         Some(Unit::N) => 10.0,
         Some(Unit::NM) => 1.0,
+        Some(Unit::Pa) => 1e3,
         other => panic!("no nudge for unit {other:?}"),
     }
 }
