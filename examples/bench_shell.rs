@@ -288,6 +288,9 @@ fn cost_section(dir: &Path) {
 // 2. Closed cylinder against the number of rings
 // ---------------------------------------------------------------------------------------------
 
+/// Rings, static solve [s], dynamic step [s], dynamic step per Newton iteration [s].
+type RingTiming = (f64, f64, f64, f64);
+
 fn cylinder_section(dir: &Path) {
     // the mid-wall ring probe is not on a ring of every mesh: probe the first ring instead
     let text = scene("cylinder")
@@ -357,7 +360,7 @@ fn cylinder_section(dir: &Path) {
         pts.push((r, t_static, t_step, t_step / its));
     }
     // least-squares line t = a + b·rings, and the growth exponent between the last two meshes
-    let fit = |y: &dyn Fn(&(f64, f64, f64, f64)) -> f64| {
+    let fit = |y: &dyn Fn(&RingTiming) -> f64| {
         let n = pts.len() as f64;
         let (sx, sy) = pts
             .iter()
@@ -381,9 +384,9 @@ fn cylinder_section(dir: &Path) {
     for (name, y) in [
         (
             "static solve",
-            &(|p: &(f64, f64, f64, f64)| p.1) as &dyn Fn(&_) -> f64,
+            &(|p: &RingTiming| p.1) as &dyn Fn(&_) -> f64,
         ),
-        ("dynamic step", &|p: &(f64, f64, f64, f64)| p.2),
+        ("dynamic step", &|p: &RingTiming| p.2),
         ("dynamic step per Newton iteration", &|p: &(
             f64,
             f64,
