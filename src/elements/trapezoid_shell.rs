@@ -138,7 +138,7 @@ impl Default for ShellOptions {
         Self {
             bending: Bending::V2,
             drilling: 1e-3,
-            geometric_stiffness: false,
+            geometric_stiffness: true,
         }
     }
 }
