@@ -14,6 +14,8 @@
 //! Run: `cargo run --release --example bench_beam_3d [out-dir]` (default `build/bench`); writes
 //! `corot_cost.csv` and `corot_tradeoff.csv`; `scripts/bench_beam_3d.py` plots them.
 
+mod bench_util;
+use bench_util::{best, scene};
 use flexfmu::elements::corotational3d::{
     BeamSection, Corot3d, MassModel, Mat12, Nodes, Rates, Theory, Vec12,
 };
@@ -22,7 +24,7 @@ use flexfmu::kinds::beam_3d::Beam3dScene;
 use flexfmu::kinds::beam_3d::model::Beam3d;
 use flexfmu::linalg::SolverKind;
 use flexfmu::model::{JacobianCoeffs, MechanicalSystem, Model, build_model};
-use flexfmu::scene::{ParamValues, Scene};
+use flexfmu::scene::ParamValues;
 use flexfmu::solver::newton::Workspace;
 use flexfmu::solver::simulation::{Simulation, SolverConfig};
 use flexfmu::variables::{Role, Value, VariableTable};
@@ -31,22 +33,6 @@ use std::hint::black_box;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-fn scene(name: &str) -> Scene {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    Scene::from_path(&root.join("scenes").join(format!("{name}.toml"))).unwrap()
-}
-
-/// Best of `reps` timings of `f` [s].
-fn best<F: FnMut()>(reps: usize, mut f: F) -> f64 {
-    (0..reps)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed().as_secs_f64()
-        })
-        .fold(f64::INFINITY, f64::min)
-}
 
 struct Cost {
     n: usize,

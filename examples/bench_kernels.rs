@@ -8,6 +8,8 @@
 //!
 //! `cargo run --release --example bench_kernels [-- --csv out.csv]`
 
+mod bench_util;
+use bench_util::time_it;
 use flexfmu::fmi2::exports::*;
 use flexfmu::fmi2::types::*;
 use flexfmu::model::{JacobianCoeffs, build_model};
@@ -27,22 +29,6 @@ fn pendulum(n: i32) -> (Scene, ParamValues) {
     let mut p = ParamValues::defaults(&scene.params);
     p.set("mesh.n_elements", Value::Integer(n));
     (scene, p)
-}
-
-/// Mean seconds per call of `f`, repeated for at least `min_secs`.
-fn time_it(min_secs: f64, mut f: impl FnMut()) -> f64 {
-    let mut reps = 1usize;
-    loop {
-        let t = Instant::now();
-        for _ in 0..reps {
-            f();
-        }
-        let dt = t.elapsed().as_secs_f64();
-        if dt >= min_secs {
-            return dt / reps as f64;
-        }
-        reps = (reps * 2).max((reps as f64 * min_secs / dt.max(1e-9)) as usize / 2);
-    }
 }
 
 fn main() {

@@ -189,7 +189,8 @@ fn strip_under_end_shear_follows_the_elastica() {
                 "| {k} | {n} | {u:.5} | {w:.5} | {:.5} | {:.5} |",
                 tip.u, tip.w
             );
-            let tol = if n == 40 { 2e-3 } else { 6e-3 };
+            // the shell stretches (EA = 1.2e5 N), the elastica does not: 3e-5 L at k = 4
+            let tol = 2e-4;
             assert!(
                 (u - tip.u).abs() < tol && (w - tip.w).abs() < tol,
                 "k = {k}, n = {n}"

@@ -138,7 +138,7 @@ impl Default for ShellOptions {
         Self {
             bending: Bending::V2,
             drilling: 1e-3,
-            geometric_stiffness: false,
+            geometric_stiffness: true,
         }
     }
 }
@@ -669,6 +669,9 @@ pub struct TrapezoidShell {
     k_local: Mat24,
     /// Mass-orthogonal projector on the elastic modes, `P = I − R (Rᵀ M R)⁻¹ Rᵀ M`.
     proj: Mat24,
+    /// Its factors: the rigid modes `R` (24 × 6) and `Y = (Rᵀ M R)⁻¹ Rᵀ M` (6 × 24), `P = I − R Y`.
+    rigid: SMatrix<f64, ELEMENT_DOFS, 6>,
+    rigid_y: SMatrix<f64, 6, ELEMENT_DOFS>,
     /// Membrane strain rows and gradient rows of `w` at the 2 × 2 Gauss points, with weights
     /// `w det J` (geometric stiffness only).
     membrane: [(M3x24, M2x24, f64); 4],
@@ -787,7 +790,8 @@ impl TrapezoidShell {
         let s = (r.transpose() * mass * r)
             .try_inverse()
             .ok_or("singular rigid-mode mass")?;
-        let proj = Mat24::identity() - r * s * r.transpose() * mass;
+        let rigid_y = s * r.transpose() * mass;
+        let proj = Mat24::identity() - r * rigid_y;
         let k_lin = k_mem + k_rest;
         let k_local = if opt.geometric_stiffness {
             k_rest
@@ -802,6 +806,8 @@ impl TrapezoidShell {
             area,
             k_local,
             proj,
+            rigid: r,
+            rigid_y,
             membrane,
             k_linear: k_lin,
             mass,
@@ -1005,7 +1011,7 @@ impl TrapezoidShell {
             }
             return 0.5 * dx.dot(grad);
         }
-        let d = self.proj * dx;
+        let d = dx - self.rigid * (self.rigid_y * dx);
         let mut g = self.k_local * d;
         let mut e = 0.5 * d.dot(&g);
         let cm = self.mat.plane_stress(self.mat.membrane_stiffness());
@@ -1020,12 +1026,19 @@ impl TrapezoidShell {
             g += bnl.transpose() * n * *wd;
             if let Some(h) = h.as_mut() {
                 let nm = Matrix2::new(n.x, n.z, n.z, n.y);
-                *h += (bnl.transpose() * cm * bnl + gw.transpose() * nm * gw) * *wd;
+                let cb = cm * bnl * *wd;
+                let ng = nm * gw * *wd;
+                h.gemm_tr(1.0, &bnl, &cb, 1.0);
+                h.gemm_tr(1.0, gw, &ng, 1.0);
             }
         }
-        *grad = self.proj.transpose() * g;
+        // Pᵀ g and Pᵀ H P with P = I − R Y (rank-6 corrections instead of 24³ products)
+        *grad = g - self.rigid_y.transpose() * (self.rigid.transpose() * g);
         if let (Some(out), Some(h)) = (hess, h) {
-            *out = self.proj.transpose() * h * self.proj;
+            let hr = h * self.rigid;
+            let hry = hr * self.rigid_y;
+            let core = self.rigid.transpose() * hr;
+            *out = h - hry - hry.transpose() + self.rigid_y.transpose() * (core * self.rigid_y);
         }
         e
     }

@@ -119,7 +119,7 @@ impl BorderedBanded {
         }
         let core = CscPattern::from_entries(nb, entries);
         let (kl, ku) = core.bandwidths();
-        if kl + ku > 24 && 8 * (kl + ku) > nb {
+        if !super::solver::band_is_cheap(kl + ku, nb) {
             return None;
         }
         let mut dest = Vec::with_capacity(pattern.nnz());

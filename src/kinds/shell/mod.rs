@@ -111,7 +111,7 @@ pub struct ShellElement {
     pub bending: i64,
     /// Include the geometric (initial-stress) stiffness. Parameter
     /// `element.geometric_stiffness`.
-    #[serde(default)]
+    #[serde(default = "default_geometric_stiffness")]
     pub geometric_stiffness: bool,
     /// Drilling stiffness as a ratio of the membrane shear stiffness `G h` [1]. Parameter
     /// `element.drilling_stiffness`.
@@ -122,6 +122,11 @@ pub struct ShellElement {
 fn default_bending() -> i64 {
     2
 }
+/// On by default: measured, it lets much coarser meshes reach the same large-deflection
+/// accuracy (README, "The seed-004 element") for about 1.7 times the cost of a tangent.
+fn default_geometric_stiffness() -> bool {
+    true
+}
 fn default_drilling() -> f64 {
     1e-3
 }
@@ -130,7 +135,7 @@ impl Default for ShellElement {
     fn default() -> Self {
         Self {
             bending: default_bending(),
-            geometric_stiffness: false,
+            geometric_stiffness: default_geometric_stiffness(),
             drilling_stiffness: default_drilling(),
         }
     }
