@@ -185,8 +185,7 @@ fn static_reaction_of_the_stretched_tube() {
 fn drive(
     sc: &Scene,
     sim: &mut Simulation,
-    port: &str,
-    axis: &str,
+    (port, axis): (&str, &str),
     u: impl Fn(f64) -> (f64, f64),
     base: f64,
     dt: f64,
@@ -219,8 +218,7 @@ fn reaction_follows_a_harmonic_motion() {
     let hist = drive(
         &sc,
         &mut sim,
-        "tip",
-        "z",
+        ("tip", "z"),
         |t| (a * (1.0 - (w * t).cos()), a * w * (w * t).sin()),
         0.0,
         1e-3,
@@ -266,7 +264,7 @@ fn interface_jacobian_predicts_the_step_response() {
         };
         // move the port for ten steps at 0.2 m/s
         let b = base(moving);
-        drive(&sc, &mut sim, port, moving, |t| (0.2 * t, 0.2), b, h, 10);
+        drive(&sc, &mut sim, (port, moving), |t| (0.2 * t, 0.2), b, h, 10);
         let t = 10.0 * h;
         let inputs: Vec<usize> = axes
             .iter()
@@ -391,7 +389,10 @@ x0 = "clamped"
         );
         match Scene::from_toml(&text) {
             Err(e) => e.0,
-            Ok(sc) => simulation(&sc, &[]).err().expect("an error"),
+            Ok(sc) => match simulation(&sc, &[]) {
+                Err(e) => e,
+                Ok(_) => panic!("{extra}: accepted"),
+            },
         }
     };
     let e = err("[[motions]]\nname = \"p\"\nedge = \"x1\"\nat = [1.0, 0.0]\n");
