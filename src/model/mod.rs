@@ -3,6 +3,7 @@
 //! [`crate::kinds`].
 
 mod factory;
+pub mod framed;
 pub mod inputs;
 pub mod modal;
 pub mod nodes3d;

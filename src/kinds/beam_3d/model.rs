@@ -33,6 +33,7 @@ use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
 use crate::meshers::centreline::{Piece, mesh_centreline};
 use crate::meshers::stations::Stations;
+use crate::model::framed::FramedState;
 use crate::model::inputs::InputSignal;
 use crate::model::nodes3d::{NodeLoad, NodeMotion};
 use crate::model::rates;
@@ -119,25 +120,13 @@ struct NodeProbe {
 pub struct Beam3d {
     length: f64,
     set: ElementSet<Corot3d, ELEMENT_DOFS>,
-    /// Stored orientations of the nodes (incremental rotation vectors among the coordinates).
-    frames: NodeFrames,
-    asm: Assembly,
     gravity: Vector3<f64>,
     loads: Vec<NodeLoad>,
     probes: Vec<NodeProbe>,
     scales: Vec<f64>,
-    // committed state (outputs are computed from it)
-    t: f64,
-    q: Vec<f64>,
-    v: Vec<f64>,
-    /// Accelerations of the committed state (`θ̈ = Ẇ` at θ = 0), for output rates.
-    acc: Vec<f64>,
-    // work buffers
-    qw: Vec<f64>,
-    vw: Vec<f64>,
-    aw: Vec<f64>,
-    fw: Vec<f64>,
-    qmid: Vec<f64>,
+    /// Assembly, node orientations, committed state (outputs are computed from it) and work
+    /// buffers.
+    st: FramedState,
     /// What each input and output means, by index.
     roles: KindIo<Input, Output>,
 }
@@ -244,26 +233,14 @@ impl Beam3d {
             .iter()
             .map(|&i| if i % NODE_DOFS < 3 { length } else { 1.0 })
             .collect();
-        let n_full = q0.len();
-        let n_free = asm.dofs.n_free();
         Ok(Self {
             length,
             set,
-            frames,
-            asm,
             gravity,
             loads,
             probes,
             scales,
-            t: 0.0,
-            q: q0.clone(),
-            v: vec![0.0; n_full],
-            acc: vec![0.0; n_full],
-            qw: q0,
-            vw: vec![0.0; n_full],
-            aw: vec![0.0; n_full],
-            fw: vec![0.0; n_full],
-            qmid: vec![0.0; n_free],
+            st: FramedState::new(asm, frames, q0),
             roles: io(scene),
         })
     }
@@ -280,50 +257,50 @@ impl Beam3d {
 
     /// Number of nodes.
     pub fn n_nodes(&self) -> usize {
-        self.frames.len()
+        self.st.frames.len()
     }
 
     /// Position of node `k` in the committed state [m].
     pub fn node_position(&self, k: usize) -> Vector3<f64> {
-        Vector3::from_column_slice(&self.q[k * NODE_DOFS..k * NODE_DOFS + 3])
+        Vector3::from_column_slice(&self.st.q[k * NODE_DOFS..k * NODE_DOFS + 3])
     }
 
     /// Orientation of node `k` in the committed state (rotation from the reference).
     pub fn node_rotation(&self, k: usize) -> Matrix3<f64> {
-        self.frames.rotation(k, &self.q)
+        self.st.frames.rotation(k, &self.st.q)
     }
 
     /// Body angular velocity of node `k` [rad/s].
     pub fn node_angular_velocity(&self, k: usize) -> Vector3<f64> {
-        self.frames.angular_velocity(k, &self.v)
+        self.st.frames.angular_velocity(k, &self.st.v)
     }
 
     /// Kinetic energy [J] of the committed state.
     pub fn kinetic_energy(&self) -> f64 {
-        self.kinetic_energy_at(&self.q, &self.v)
+        self.kinetic_energy_at(&self.st.q, &self.st.v)
     }
 
     /// Gravity potential [J] of the committed state (relative to the origin).
     pub fn potential_energy(&self) -> f64 {
-        self.potential_energy_at(&self.q)
+        self.potential_energy_at(&self.st.q)
     }
 
     /// Strain energy [J] of the committed state.
     pub fn strain_energy(&self) -> f64 {
-        self.strain_energy_at(&self.q)
+        self.strain_energy_at(&self.st.q)
     }
 
     /// Kinetic energy [J] at full coordinates `q` (rotation vectors in the chart of the stored
     /// orientations) and rates `v` (body angular velocities).
     fn kinetic_energy_at(&self, q: &[f64], v: &[f64]) -> f64 {
-        self.set.kinetic_energy(q, v, Some(&self.frames))
+        self.set.kinetic_energy(q, v, Some(&self.st.frames))
     }
 
     /// Gravity potential [J] at full coordinates `q`.
     fn potential_energy_at(&self, q: &[f64]) -> f64 {
         let mut v = 0.0;
         self.set
-            .for_each_state(q, &self.v, Some(&self.frames), |_, el, s| {
+            .for_each_state(q, &self.st.v, Some(&self.st.frames), |_, el, s| {
                 v += el.gravity_potential(&Corot3d::nodes_of(s), &self.gravity);
             });
         v
@@ -331,7 +308,7 @@ impl Beam3d {
 
     /// Strain energy [J] at full coordinates `q`.
     fn strain_energy_at(&self, q: &[f64]) -> f64 {
-        self.set.strain_energy(q, Some(&self.frames))
+        self.set.strain_energy(q, Some(&self.st.frames))
     }
 
     /// Time derivative of an output of the committed state: positions, velocities, angular
@@ -341,7 +318,7 @@ impl Beam3d {
     fn output_rate(&self, kind: Output) -> Option<f64> {
         let energy = |f: &dyn Fn(&[f64], &[f64]) -> f64| {
             let mut work = [Vec::new(), Vec::new()];
-            rates::along_motion(&self.q, &self.v, &self.acc, &mut work, f)
+            rates::along_motion(&self.st.q, &self.st.v, &self.st.acc, &mut work, f)
         };
         match kind {
             Output::Probe { probe, quantity } => {
@@ -364,10 +341,10 @@ impl Beam3d {
     /// The committed motion of the nodes (for probes).
     fn motion(&self) -> NodeMotion<'_> {
         NodeMotion {
-            q: &self.q,
-            v: &self.v,
-            acc: &self.acc,
-            frames: &self.frames,
+            q: &self.st.q,
+            v: &self.st.v,
+            acc: &self.st.acc,
+            frames: &self.st.frames,
         }
     }
 
@@ -383,7 +360,7 @@ impl Beam3d {
     pub fn linear_momentum(&self) -> Vector3<f64> {
         let mut p = Vector3::zeros();
         self.set
-            .for_each_state(&self.q, &self.v, Some(&self.frames), |_, el, s| {
+            .for_each_state(&self.st.q, &self.st.v, Some(&self.st.frames), |_, el, s| {
                 let pe = el.mass_matrix(&Corot3d::nodes_of(s)) * s.v;
                 p += Vector3::new(pe[0] + pe[6], pe[1] + pe[7], pe[2] + pe[8]);
             });
@@ -395,7 +372,7 @@ impl Beam3d {
     pub fn angular_momentum(&self) -> Vector3<f64> {
         let mut h = Vector3::zeros();
         self.set
-            .for_each_state(&self.q, &self.v, Some(&self.frames), |_, el, s| {
+            .for_each_state(&self.st.q, &self.st.v, Some(&self.st.frames), |_, el, s| {
                 let n = Corot3d::nodes_of(s);
                 let pe = el.mass_matrix(&n) * s.v;
                 for i in 0..2 {
@@ -425,7 +402,7 @@ impl Beam3d {
     }
 
     /// Residual and iteration matrix at time `t` [s] (load signals) of the configuration in
-    /// `self.qw`, rates in `self.vw`, `self.aw`; the stiffness part of the iteration matrix is scaled by `k_scale`.
+    /// `self.st.qw`, rates in `self.st.vw`, `self.st.aw`; the stiffness part of the iteration matrix is scaled by `k_scale`.
     fn assemble(
         &mut self,
         t: f64,
@@ -434,15 +411,15 @@ impl Beam3d {
         r: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let mut fw = std::mem::take(&mut self.fw);
+        let mut fw = std::mem::take(&mut self.st.fw);
         fw.fill(0.0);
         if let Some((_, vals)) = jac.as_mut() {
             vals.fill(0.0);
         }
         let x = Eval {
-            q: &self.qw,
-            v: &self.vw,
-            a: &self.aw,
+            q: &self.st.qw,
+            v: &self.st.vw,
+            a: &self.st.aw,
             g: self.gravity * lambda,
         };
         let elem_jac = jac.as_mut().map(|(c, vals)| {
@@ -453,14 +430,14 @@ impl Beam3d {
             (c, &mut **vals)
         });
         self.set
-            .add_residual(&x, Some(&mut self.frames), &mut fw, elem_jac);
-        let frames = self.frames.current();
+            .add_residual(&x, Some(&mut self.st.frames), &mut fw, elem_jac);
+        let frames = self.st.frames.current();
         for l in &self.loads {
             let jac = jac.as_mut().map(|(c, vals)| (&*c, k_scale, &mut **vals));
-            l.add_residual(t, lambda, frames, &mut fw, &self.asm, jac);
+            l.add_residual(t, lambda, frames, &mut fw, &self.st.asm, jac);
         }
-        self.asm.dofs.restrict(&fw, r);
-        self.fw = fw;
+        self.st.asm.dofs.restrict(&fw, r);
+        self.st.fw = fw;
         check_finite(r, jac.as_ref().map(|(_, vals)| &**vals))
     }
 
@@ -471,14 +448,14 @@ impl Beam3d {
         let mut q = vec![0.0; n];
         let mut v = vec![0.0; n];
         self.free_state(&mut q, &mut v);
-        let t = self.t;
+        let t = self.st.t;
         crate::model::modal::dense_matrices(self, t, &q).expect("finite")
     }
 }
 
 impl Model for Beam3d {
     fn set_input(&mut self, input: usize, value: f64) {
-        let t = self.t;
+        let t = self.st.t;
         self.input_signal(input).set(value, t);
     }
 
@@ -504,29 +481,17 @@ impl Model for Beam3d {
     }
 
     fn accept(&mut self, state: &mut DynState) {
-        let mut q = std::mem::take(&mut self.q);
-        self.asm.dofs.expand(&state.q, &mut q);
-        self.frames.absorb(&mut q);
-        self.asm.dofs.restrict(&q, &mut state.q);
-        self.q = q;
-        self.asm.dofs.expand(&state.v, &mut self.v);
-        self.asm.dofs.expand(&state.acc, &mut self.acc);
-        self.t = state.t;
+        self.st.accept(state, |_, _, _| {});
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
-        self.asm.dofs.restrict(&self.q, q);
-        self.asm.dofs.restrict(&self.v, v);
+        self.st.free_state(q, v);
     }
 
     /// Committed time, coordinates, velocities and accelerations, nodal orientations
     /// (quaternions) and load signals.
     fn save(&self, w: &mut StateWriter) -> Result<(), String> {
-        w.f64(self.t);
-        w.f64s(&self.q);
-        w.f64s(&self.v);
-        w.f64s(&self.acc);
-        self.frames.save(w);
+        self.st.save(w);
         for l in &self.loads {
             l.save(w);
         }
@@ -535,11 +500,7 @@ impl Model for Beam3d {
 
     fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
         let e = |e: crate::snapshot::SnapshotError| e.to_string();
-        self.t = r.f64().map_err(e)?;
-        r.f64s_into(&mut self.q).map_err(e)?;
-        r.f64s_into(&mut self.v).map_err(e)?;
-        r.f64s_into(&mut self.acc).map_err(e)?;
-        self.frames.restore(r)?;
+        self.st.restore(r)?;
         for l in &mut self.loads {
             l.restore(r).map_err(e)?;
         }
@@ -549,11 +510,11 @@ impl Model for Beam3d {
 
 impl MechanicalSystem for Beam3d {
     fn n_free(&self) -> usize {
-        self.asm.dofs.n_free()
+        self.st.asm.dofs.n_free()
     }
 
     fn pattern(&self) -> &CscPattern {
-        &self.asm.pattern
+        &self.st.asm.pattern
     }
 
     fn scales(&self) -> &[f64] {
@@ -570,9 +531,7 @@ impl MechanicalSystem for Beam3d {
         r: &mut [f64],
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        self.asm.dofs.expand(q, &mut self.qw);
-        self.asm.dofs.expand(v, &mut self.vw);
-        self.asm.dofs.expand(a, &mut self.aw);
+        self.st.expand(q, v, a);
         self.assemble(t, load_factor, 1.0, r, jac)
     }
 
@@ -592,22 +551,11 @@ impl MechanicalSystem for Beam3d {
         r: &mut [f64],
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let mut qm = std::mem::take(&mut self.qmid);
-        for i in 0..qm.len() {
-            qm[i] = 0.5 * (q_a[i] + q_b[i]);
-        }
-        self.asm.dofs.expand(&qm, &mut self.qw);
-        self.qmid = qm;
-        self.asm.dofs.expand(v, &mut self.vw);
-        self.asm.dofs.expand(a, &mut self.aw);
+        self.st.expand_midpoint(q_a, q_b, v, a);
         self.assemble(0.5 * (t_a + t_b), 1.0, 0.5, r, jac)
     }
 
     fn rebase(&mut self, q: &mut [f64]) {
-        let mut full = std::mem::take(&mut self.q);
-        self.asm.dofs.expand(q, &mut full);
-        self.frames.absorb(&mut full);
-        self.asm.dofs.restrict(&full, q);
-        self.q = full;
+        self.st.rebase(q);
     }
 }

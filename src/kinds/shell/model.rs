@@ -30,6 +30,7 @@ use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
 use crate::meshers::plate::{PlateEdge, PlateMesh, line_weights, node_at_point};
 use crate::meshers::revolution::{MeridianEnd, MeridianPiece, RevolutionMesh};
+use crate::model::framed::FramedState;
 use crate::model::inputs::InputSignal;
 use crate::model::nodes3d::{NodeLoad, NodeMotion};
 use crate::model::ports::{Channel, PortHost, Ports};
@@ -297,9 +298,6 @@ pub struct Shell {
     set: ElementSet<TrapezoidShell, ELEMENT_DOFS>,
     /// Position coordinates of every element (12), for the pressure.
     positions: Connectivity<12>,
-    /// Stored orientations of the nodes.
-    frames: NodeFrames,
-    asm: Assembly,
     gravity: Vector3<f64>,
     /// Gravity load of the reference (constant: the element's gravity is) [N], full vector.
     gravity_load: Vec<f64>,
@@ -323,17 +321,8 @@ pub struct Shell {
     poles: Option<(usize, usize)>,
     n_nodes: usize,
     scales: Vec<f64>,
-    // committed state
-    t: f64,
-    q: Vec<f64>,
-    v: Vec<f64>,
-    acc: Vec<f64>,
-    // work buffers
-    qw: Vec<f64>,
-    vw: Vec<f64>,
-    aw: Vec<f64>,
-    fw: Vec<f64>,
-    qmid: Vec<f64>,
+    /// Assembly, node orientations, committed state and work buffers.
+    st: FramedState,
     roles: KindIo<Input, Output>,
 }
 
@@ -534,13 +523,10 @@ impl Shell {
             .collect();
         let mut gravity_load = vec![0.0; n_full];
         set.add_gravity(&q0, Some(&frames), &gravity, 1.0, &mut gravity_load);
-        let n_free = asm.dofs.n_free();
         let ports = Ports::grouped(&channels, &q0, p.real(SOLVER_MAX_STEP));
         let mut model = Self {
             set,
             positions,
-            frames,
-            asm,
             gravity,
             gravity_load,
             loads,
@@ -554,18 +540,10 @@ impl Shell {
             poles,
             n_nodes,
             scales,
-            t: 0.0,
-            q: q0.clone(),
-            v: vec![0.0; n_full],
-            acc: vec![0.0; n_full],
-            qw: q0,
-            vw: vec![0.0; n_full],
-            aw: vec![0.0; n_full],
-            fw: vec![0.0; n_full],
-            qmid: vec![0.0; n_free],
+            st: FramedState::new(asm, frames, q0),
             roles: io(scene),
         };
-        if closed && model.signed_volume(&model.q) < 0.0 {
+        if closed && model.signed_volume(&model.st.q) < 0.0 {
             model.orientation = -1.0;
         }
         Ok(model)
@@ -583,12 +561,12 @@ impl Shell {
 
     /// Number of free coordinates.
     pub fn n_free_coordinates(&self) -> usize {
-        self.asm.dofs.n_free()
+        self.st.asm.dofs.n_free()
     }
 
     /// Position of node `k` in the committed state [m].
     pub fn node_position(&self, k: usize) -> Vector3<f64> {
-        Vector3::from_column_slice(&self.q[k * NODE_DOFS..k * NODE_DOFS + 3])
+        Vector3::from_column_slice(&self.st.q[k * NODE_DOFS..k * NODE_DOFS + 3])
     }
 
     fn element_positions(&self, e: usize, q: &[f64]) -> [Vector3<f64>; 4] {
@@ -606,7 +584,7 @@ impl Shell {
 
     /// Enclosed volume [m3] of the committed state (a closed surface).
     pub fn volume(&self) -> f64 {
-        self.orientation * self.signed_volume(&self.q)
+        self.orientation * self.signed_volume(&self.st.q)
     }
 
     fn node(q: &[f64], k: usize) -> Vector3<f64> {
@@ -639,7 +617,7 @@ impl Shell {
 
     /// Kinetic energy [J] at full coordinates and rates.
     fn kinetic_energy_at(&self, q: &[f64], v: &[f64]) -> f64 {
-        self.set.kinetic_energy(q, v, Some(&self.frames))
+        self.set.kinetic_energy(q, v, Some(&self.st.frames))
     }
 
     /// Gravity potential [J] relative to the origin: `−Q_gᵀ x` (the gravity load is constant).
@@ -656,7 +634,7 @@ impl Shell {
 
     /// Strain energy [J] at full coordinates.
     fn strain_energy_at(&self, q: &[f64]) -> f64 {
-        self.set.strain_energy(q, Some(&self.frames))
+        self.set.strain_energy(q, Some(&self.st.frames))
     }
 
     fn value_at(&self, kind: Output, q: &[f64], v: &[f64]) -> f64 {
@@ -664,8 +642,8 @@ impl Shell {
             Output::Probe { probe, quantity } => NodeMotion {
                 q,
                 v,
-                acc: &self.acc,
-                frames: &self.frames,
+                acc: &self.st.acc,
+                frames: &self.st.frames,
             }
             .probe(self.probes[probe].node, quantity, None),
             Output::Ring { probe, quantity } => {
@@ -692,22 +670,22 @@ impl Shell {
     fn output_rate(&self, kind: Output) -> Option<f64> {
         match kind {
             Output::Probe { probe, quantity } => NodeMotion {
-                q: &self.q,
-                v: &self.v,
-                acc: &self.acc,
-                frames: &self.frames,
+                q: &self.st.q,
+                v: &self.st.v,
+                acc: &self.st.acc,
+                frames: &self.st.frames,
             }
             .probe_rate(self.probes[probe].node, quantity, None),
             // d/dt of the stiffness part of the reaction, K_c v (inertia rates neglected)
             Output::Reaction { port, axis } => {
-                Some(self.ports.force_rate(self, port, axis, &self.v))
+                Some(self.ports.force_rate(self, port, axis, &self.st.v))
             }
             _ => {
                 let mut work = [Vec::new(), Vec::new()];
                 Some(rates::along_motion(
-                    &self.q,
-                    &self.v,
-                    &self.acc,
+                    &self.st.q,
+                    &self.st.v,
+                    &self.st.acc,
                     &mut work,
                     |q, v| self.value_at(kind, q, v),
                 ))
@@ -745,13 +723,17 @@ impl Shell {
         nodes: Option<&[bool]>,
         mut f: impl FnMut(usize, &TrapezoidShell, &crate::elements::ElementState<ELEMENT_DOFS>),
     ) {
-        self.set
-            .for_each_state(&self.q, &self.v, Some(&self.frames), |e, el, st| {
+        self.set.for_each_state(
+            &self.st.q,
+            &self.st.v,
+            Some(&self.st.frames),
+            |e, el, st| {
                 if nodes.is_none_or(|n| self.set.element_dofs(e).iter().any(|&i| n[i / NODE_DOFS]))
                 {
                     f(e, el, st);
                 }
-            });
+            },
+        );
     }
 
     /// Marks the nodes of the full coordinates `coords`.
@@ -775,7 +757,7 @@ impl Shell {
                 continue;
             }
             pressure_into(
-                &self.element_positions(e, &self.q),
+                &self.element_positions(e, &self.st.q),
                 self.orientation,
                 &mut f,
                 None,
@@ -788,8 +770,8 @@ impl Shell {
         }
     }
 
-    /// Residual and iteration matrix at time `t` [s] of the configuration in `self.qw`, rates
-    /// in `self.vw`, `self.aw`; the stiffness part of the iteration matrix is scaled by
+    /// Residual and iteration matrix at time `t` [s] of the configuration in `self.st.qw`, rates
+    /// in `self.st.vw`, `self.st.aw`; the stiffness part of the iteration matrix is scaled by
     /// `k_scale`.
     fn assemble(
         &mut self,
@@ -799,15 +781,15 @@ impl Shell {
         r: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let mut fw = std::mem::take(&mut self.fw);
+        let mut fw = std::mem::take(&mut self.st.fw);
         fw.fill(0.0);
         if let Some((_, vals)) = jac.as_mut() {
             vals.fill(0.0);
         }
         let x = Eval {
-            q: &self.qw,
-            v: &self.vw,
-            a: &self.aw,
+            q: &self.st.qw,
+            v: &self.st.vw,
+            a: &self.st.aw,
             g: self.gravity * lambda,
         };
         let elem_jac = jac.as_mut().map(|(c, vals)| {
@@ -818,17 +800,17 @@ impl Shell {
             (c, &mut **vals)
         });
         self.set
-            .add_residual(&x, Some(&mut self.frames), &mut fw, elem_jac);
-        let frames = self.frames.current();
+            .add_residual(&x, Some(&mut self.st.frames), &mut fw, elem_jac);
+        let frames = self.st.frames.current();
         for l in &self.loads {
             let jac = jac.as_mut().map(|(c, vals)| (&*c, k_scale, &mut **vals));
-            l.add_residual(t, lambda, frames, &mut fw, &self.asm, jac);
+            l.add_residual(t, lambda, frames, &mut fw, &self.st.asm, jac);
         }
         let p = self.pressure.at(t) * lambda * self.orientation;
         if p != 0.0 {
             let (mut f, mut k) = (SVector::<f64, 12>::zeros(), SMatrix::<f64, 12, 12>::zeros());
             for e in 0..self.positions.len() {
-                let xe = self.element_positions(e, &self.qw);
+                let xe = self.element_positions(e, &self.st.qw);
                 match jac.as_mut() {
                     Some((c, vals)) => {
                         pressure_into(&xe, p, &mut f, Some(&mut k));
@@ -840,15 +822,15 @@ impl Shell {
                 self.positions.add_vector(e, &f, -1.0, &mut fw);
             }
         }
-        self.asm.dofs.restrict(&fw, r);
-        self.fw = fw;
+        self.st.asm.dofs.restrict(&fw, r);
+        self.st.fw = fw;
         check_finite(r, jac.as_ref().map(|(_, vals)| &**vals))
     }
 }
 
 impl Model for Shell {
     fn set_input(&mut self, input: usize, value: f64) {
-        let t = self.t;
+        let t = self.st.t;
         self.input_signal(input).set(value, t);
         self.after_input(input);
     }
@@ -868,7 +850,7 @@ impl Model for Shell {
     }
 
     fn output(&self, output: usize) -> f64 {
-        self.value_at(self.roles.outputs[output], &self.q, &self.v)
+        self.value_at(self.roles.outputs[output], &self.st.q, &self.st.v)
     }
 
     fn output_derivative(&self, output: usize) -> Option<f64> {
@@ -912,24 +894,15 @@ impl Model for Shell {
     }
 
     fn accept(&mut self, state: &mut DynState) {
-        let mut q = std::mem::take(&mut self.q);
-        self.asm.dofs.expand(&state.q, &mut q);
-        self.ports.apply(state.t, 1.0, Some(&mut q), None, None);
-        self.frames.absorb(&mut q);
-        self.asm.dofs.restrict(&q, &mut state.q);
-        self.q = q;
-        self.asm.dofs.expand(&state.v, &mut self.v);
-        self.asm.dofs.expand(&state.acc, &mut self.acc);
-        self.ports
-            .apply(state.t, 1.0, None, Some(&mut self.v), Some(&mut self.acc));
-        self.t = state.t;
-        self.port_pressure = self.pressure.at(self.t);
-        self.ports.commit(self.t, &self.q, &self.v);
+        let (ports, t) = (&self.ports, state.t);
+        self.st
+            .accept(state, |q, v, a| ports.apply(t, 1.0, q, v, a));
+        self.port_pressure = self.pressure.at(self.st.t);
+        self.ports.commit(self.st.t, &self.st.q, &self.st.v);
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
-        self.asm.dofs.restrict(&self.q, q);
-        self.asm.dofs.restrict(&self.v, v);
+        self.st.free_state(q, v);
     }
 
     fn constant_mass(&self) -> bool {
@@ -939,11 +912,7 @@ impl Model for Shell {
     /// Committed time, coordinates, velocities and accelerations, nodal orientations and input
     /// signals.
     fn save(&self, w: &mut StateWriter) -> Result<(), String> {
-        w.f64(self.t);
-        w.f64s(&self.q);
-        w.f64s(&self.v);
-        w.f64s(&self.acc);
-        self.frames.save(w);
+        self.st.save(w);
         for l in &self.loads {
             l.save(w);
         }
@@ -955,18 +924,14 @@ impl Model for Shell {
 
     fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
         let e = |e: crate::snapshot::SnapshotError| e.to_string();
-        self.t = r.f64().map_err(e)?;
-        r.f64s_into(&mut self.q).map_err(e)?;
-        r.f64s_into(&mut self.v).map_err(e)?;
-        r.f64s_into(&mut self.acc).map_err(e)?;
-        self.frames.restore(r)?;
+        self.st.restore(r)?;
         for l in &mut self.loads {
             l.restore(r).map_err(e)?;
         }
         self.pressure = InputSignal::restore(r).map_err(e)?;
         self.port_pressure = r.f64().map_err(e)?;
         self.ports.restore(r).map_err(e)?;
-        self.ports.commit(self.t, &self.q, &self.v);
+        self.ports.commit(self.st.t, &self.st.q, &self.st.v);
         self.update_interface();
         Ok(())
     }
@@ -974,11 +939,11 @@ impl Model for Shell {
 
 impl MechanicalSystem for Shell {
     fn n_free(&self) -> usize {
-        self.asm.dofs.n_free()
+        self.st.asm.dofs.n_free()
     }
 
     fn pattern(&self) -> &CscPattern {
-        &self.asm.pattern
+        &self.st.asm.pattern
     }
 
     fn scales(&self) -> &[f64] {
@@ -995,15 +960,13 @@ impl MechanicalSystem for Shell {
         r: &mut [f64],
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        self.asm.dofs.expand(q, &mut self.qw);
-        self.asm.dofs.expand(v, &mut self.vw);
-        self.asm.dofs.expand(a, &mut self.aw);
+        self.st.expand(q, v, a);
         self.ports.apply(
             t,
             load_factor,
-            Some(&mut self.qw),
-            Some(&mut self.vw),
-            Some(&mut self.aw),
+            Some(&mut self.st.qw),
+            Some(&mut self.st.vw),
+            Some(&mut self.st.aw),
         );
         self.assemble(t, load_factor, 1.0, r, jac)
     }
@@ -1023,27 +986,21 @@ impl MechanicalSystem for Shell {
         r: &mut [f64],
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let mut qm = std::mem::take(&mut self.qmid);
-        for i in 0..qm.len() {
-            qm[i] = 0.5 * (q_a[i] + q_b[i]);
-        }
-        self.asm.dofs.expand(&qm, &mut self.qw);
-        self.qmid = qm;
-        self.asm.dofs.expand(v, &mut self.vw);
-        self.asm.dofs.expand(a, &mut self.aw);
+        self.st.expand_midpoint(q_a, q_b, v, a);
         let t_mid = 0.5 * (t_a + t_b);
-        self.ports.apply_mean(t_a, t_b, &mut self.qw);
-        self.ports
-            .apply(t_mid, 1.0, None, Some(&mut self.vw), Some(&mut self.aw));
+        self.ports.apply_mean(t_a, t_b, &mut self.st.qw);
+        self.ports.apply(
+            t_mid,
+            1.0,
+            None,
+            Some(&mut self.st.vw),
+            Some(&mut self.st.aw),
+        );
         self.assemble(t_mid, 1.0, 0.5, r, jac)
     }
 
     fn rebase(&mut self, q: &mut [f64]) {
-        let mut full = std::mem::take(&mut self.q);
-        self.asm.dofs.expand(q, &mut full);
-        self.frames.absorb(&mut full);
-        self.asm.dofs.restrict(&full, q);
-        self.q = full;
+        self.st.rebase(q);
     }
 }
 
@@ -1051,7 +1008,7 @@ impl MechanicalSystem for Shell {
 /// the groups' nodes), at the committed state.
 impl PortHost for Shell {
     fn free_index(&self, full: usize) -> Option<usize> {
-        self.asm.dofs.free_index(full)
+        self.st.asm.dofs.free_index(full)
     }
 
     /// `M a + f_int − Q_g − f_pressure` at the coordinates, from the elements at their nodes
@@ -1062,7 +1019,7 @@ impl PortHost for Shell {
         out.fill(0.0);
         let mut fe = SVector::<f64, ELEMENT_DOFS>::zeros();
         self.for_each_committed(Some(&mask), |e, el, st| {
-            let ae = self.set.gather(e, &self.acc);
+            let ae = self.set.gather(e, &self.st.acc);
             el.residual_into(st, &ae, &self.gravity, &mut fe, None);
             for (a, i) in self.set.element_dofs(e).iter().enumerate() {
                 if let Some(&k) = row.get(i) {
@@ -1070,7 +1027,7 @@ impl PortHost for Shell {
                 }
             }
         });
-        let p = self.pressure.at(self.t);
+        let p = self.pressure.at(self.st.t);
         if p != 0.0 {
             let mut unit = vec![0.0; coords.len()];
             self.unit_pressure_load(coords, &mut unit);
@@ -1095,7 +1052,7 @@ impl PortHost for Shell {
             SMatrix::<f64, ELEMENT_DOFS, ELEMENT_DOFS>::zeros(),
         );
         self.for_each_committed(Some(&mask), |e, el, st| {
-            let ae = self.set.gather(e, &self.acc);
+            let ae = self.set.gather(e, &self.st.acc);
             el.residual_into(st, &ae, &self.gravity, &mut fe, Some((coeffs, &mut me)));
             let dofs = self.set.element_dofs(e);
             for (a, i) in dofs.iter().enumerate() {
@@ -1114,7 +1071,12 @@ impl PortHost for Shell {
                 if !d.iter().any(|i| row.contains_key(i)) {
                     continue;
                 }
-                pressure_into(&self.element_positions(e, &self.q), p, &mut f, Some(&mut k));
+                pressure_into(
+                    &self.element_positions(e, &self.st.q),
+                    p,
+                    &mut f,
+                    Some(&mut k),
+                );
                 for (a, i) in d.iter().enumerate() {
                     if let Some(&r) = row.get(i) {
                         for (j, &col) in d.iter().enumerate() {
@@ -1127,21 +1089,21 @@ impl PortHost for Shell {
     }
 
     fn free_matrix(&mut self, c_m: f64, vals: &mut [f64]) {
-        self.qw.copy_from_slice(&self.q);
-        self.vw.copy_from_slice(&self.v);
-        self.aw.copy_from_slice(&self.acc);
+        self.st.qw.copy_from_slice(&self.st.q);
+        self.st.vw.copy_from_slice(&self.st.v);
+        self.st.aw.copy_from_slice(&self.st.acc);
         let coeffs = JacobianCoeffs {
             mass: c_m,
             damping: 0.0,
             stiffness: 1.0,
         };
-        let mut r = vec![0.0; self.asm.dofs.n_free()];
+        let mut r = vec![0.0; self.st.asm.dofs.n_free()];
         let input = std::mem::replace(
             &mut self.pressure,
             InputSignal::constant(self.port_pressure),
         );
         // a non-finite state has no interface matrix worth keeping: the values say so
-        let _ = self.assemble(self.t, 1.0, 1.0, &mut r, Some((coeffs, vals)));
+        let _ = self.assemble(self.st.t, 1.0, 1.0, &mut r, Some((coeffs, vals)));
         self.pressure = input;
     }
 }
