@@ -42,11 +42,13 @@
 //! in-plane rotation `ω = ½(v,x − u,y)` (Hughes & Brezzi 1989), `k_d = drilling · G h`, keeps
 //! folded shells regular without touching rigid rotations.
 //!
-//! **Geometric stiffness (Eq. 21, option).** With `geometric_stiffness` the membrane strains in
-//! SCF are von Kármán's, `ε = ε_lin + ½ (w,x², w,y², 2 w,x w,y)`: the initial-stress stiffness
-//! `Gᵀ N G` and the large-displacement part follow from this energy exactly. Without it the
-//! local energy is the linear `½ ΔXᵀ K ΔX` of the paper's Part I (large rotations come from the
-//! rotating frames alone).
+//! **Geometric stiffness (Eq. 21, default on).** With `geometric_stiffness` the membrane strains
+//! in SCF are von Kármán's, `ε = ε_lin + ½ (w,x², w,y², 2 w,x w,y)`: the initial-stress
+//! stiffness `Gᵀ N G` and the large-displacement part follow from this energy exactly. Without
+//! it the local energy is the linear `½ ΔXᵀ K ΔX` of the paper's Part I (large rotations come
+//! from the rotating frames alone). As the paper says, it allows coarser meshes: measured, the
+//! strip under an end shear k = 4 at 4 elements is 9.4e-5 instead of 6.7e-3 off the elastica
+//! (`tests/shell_validation.rs`, `geometric_stiffness_on_coarse_meshes`).
 //!
 //! **Mass.** Translational inertia: the consistent mass `ρ h ∫ N_i N_j dA` of the bilinear
 //! position field, isotropic and therefore constant in global coordinates (exact for rigid
