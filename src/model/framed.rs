@@ -4,10 +4,14 @@
 //! such model takes in the same way (expanding free coordinates, the mean state of the
 //! midpoint rule, absorbing rotations into the stored orientations, snapshots).
 
-use crate::assembly::Assembly;
+use crate::assembly::{Assembly, ElementSet, Eval, check_finite};
+use crate::elements::Element;
 use crate::elements::node_frames::NodeFrames;
 use crate::integrators::DynState;
+use crate::model::nodes3d::NodeLoad;
+use crate::model::{JacobianCoeffs, ModelError};
 use crate::snapshot::{SnapshotError, StateReader, StateWriter};
+use nalgebra::Vector3;
 
 /// Committed state and work buffers of a model with node frames.
 #[derive(Clone, Debug)]
@@ -105,6 +109,62 @@ impl FramedState {
         self.frames.absorb(&mut full);
         self.asm.dofs.restrict(&full, q);
         self.q = full;
+    }
+
+    /// First part of an assembly at the work state: zeroes the matrix values, and returns the
+    /// full residual (the buffer taken out of `self.fw`, give it back with
+    /// [`Self::finish_assembly`]) with the elements' part (inertia, internal forces, gravity
+    /// `g` [m/s²]) and the node loads at time `t` [s] times `lambda`; the stiffness part of the
+    /// iteration matrix is scaled by `k_scale`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn assemble_elements<E: Element<N>, const N: usize>(
+        &mut self,
+        set: &ElementSet<E, N>,
+        loads: &[NodeLoad],
+        g: Vector3<f64>,
+        t: f64,
+        lambda: f64,
+        k_scale: f64,
+        jac: &mut Option<(JacobianCoeffs, &mut [f64])>,
+    ) -> Vec<f64> {
+        let mut fw = std::mem::take(&mut self.fw);
+        fw.fill(0.0);
+        if let Some((_, vals)) = jac.as_mut() {
+            vals.fill(0.0);
+        }
+        let x = Eval {
+            q: &self.qw,
+            v: &self.vw,
+            a: &self.aw,
+            g,
+        };
+        let elem_jac = jac.as_mut().map(|(c, vals)| {
+            let c = JacobianCoeffs {
+                stiffness: c.stiffness * k_scale,
+                ..*c
+            };
+            (c, &mut **vals)
+        });
+        set.add_residual(&x, Some(&mut self.frames), &mut fw, elem_jac);
+        let frames = self.frames.current();
+        for l in loads {
+            let jac = jac.as_mut().map(|(c, vals)| (&*c, k_scale, &mut **vals));
+            l.add_residual(t, lambda, frames, &mut fw, &self.asm, jac);
+        }
+        fw
+    }
+
+    /// Last part of an assembly: the free rows of the full residual `fw` into `r`, the buffer
+    /// back into `self.fw`, and the check that residual and matrix values are finite.
+    pub fn finish_assembly(
+        &mut self,
+        fw: Vec<f64>,
+        r: &mut [f64],
+        vals: Option<&[f64]>,
+    ) -> Result<(), ModelError> {
+        self.asm.dofs.restrict(&fw, r);
+        self.fw = fw;
+        check_finite(r, vals)
     }
 
     /// The committed free coordinates and velocities.

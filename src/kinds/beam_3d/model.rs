@@ -20,7 +20,7 @@
 //! invertible `T(θ)ᵀ` is unnecessary, so it is not done). The iteration matrix is exact:
 //! element tangents with respect to body spins times `T(θ)` on the rotation columns.
 
-use crate::assembly::{Assembly, DofMap, ElementSet, Eval, check_finite};
+use crate::assembly::{Assembly, DofMap, ElementSet};
 use crate::elements::corotational3d::{
     BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Theory, reference_frame,
 };
@@ -411,34 +411,17 @@ impl Beam3d {
         r: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let mut fw = std::mem::take(&mut self.st.fw);
-        fw.fill(0.0);
-        if let Some((_, vals)) = jac.as_mut() {
-            vals.fill(0.0);
-        }
-        let x = Eval {
-            q: &self.st.qw,
-            v: &self.st.vw,
-            a: &self.st.aw,
-            g: self.gravity * lambda,
-        };
-        let elem_jac = jac.as_mut().map(|(c, vals)| {
-            let c = JacobianCoeffs {
-                stiffness: c.stiffness * k_scale,
-                ..*c
-            };
-            (c, &mut **vals)
-        });
-        self.set
-            .add_residual(&x, Some(&mut self.st.frames), &mut fw, elem_jac);
-        let frames = self.st.frames.current();
-        for l in &self.loads {
-            let jac = jac.as_mut().map(|(c, vals)| (&*c, k_scale, &mut **vals));
-            l.add_residual(t, lambda, frames, &mut fw, &self.st.asm, jac);
-        }
-        self.st.asm.dofs.restrict(&fw, r);
-        self.st.fw = fw;
-        check_finite(r, jac.as_ref().map(|(_, vals)| &**vals))
+        let fw = self.st.assemble_elements(
+            &self.set,
+            &self.loads,
+            self.gravity * lambda,
+            t,
+            lambda,
+            k_scale,
+            &mut jac,
+        );
+        self.st
+            .finish_assembly(fw, r, jac.as_ref().map(|(_, vals)| &**vals))
     }
 
     /// The mass and stiffness matrices of the free coordinates at the committed state, dense

@@ -17,7 +17,7 @@
 
 use super::scene::{Input, Output, io, names::*, support_param};
 use super::{MeridianSection, RingAt, RingQuantity, ShellMotion, ShellScene, SupportCondition};
-use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
+use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet};
 use crate::elements::Element;
 use crate::elements::node_frames::NodeFrames;
 use crate::elements::surface_load::{pressure_into, volume_part};
@@ -781,31 +781,15 @@ impl Shell {
         r: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let mut fw = std::mem::take(&mut self.st.fw);
-        fw.fill(0.0);
-        if let Some((_, vals)) = jac.as_mut() {
-            vals.fill(0.0);
-        }
-        let x = Eval {
-            q: &self.st.qw,
-            v: &self.st.vw,
-            a: &self.st.aw,
-            g: self.gravity * lambda,
-        };
-        let elem_jac = jac.as_mut().map(|(c, vals)| {
-            let c = JacobianCoeffs {
-                stiffness: c.stiffness * k_scale,
-                ..*c
-            };
-            (c, &mut **vals)
-        });
-        self.set
-            .add_residual(&x, Some(&mut self.st.frames), &mut fw, elem_jac);
-        let frames = self.st.frames.current();
-        for l in &self.loads {
-            let jac = jac.as_mut().map(|(c, vals)| (&*c, k_scale, &mut **vals));
-            l.add_residual(t, lambda, frames, &mut fw, &self.st.asm, jac);
-        }
+        let mut fw = self.st.assemble_elements(
+            &self.set,
+            &self.loads,
+            self.gravity * lambda,
+            t,
+            lambda,
+            k_scale,
+            &mut jac,
+        );
         let p = self.pressure.at(t) * lambda * self.orientation;
         if p != 0.0 {
             let (mut f, mut k) = (SVector::<f64, 12>::zeros(), SMatrix::<f64, 12, 12>::zeros());
@@ -822,9 +806,8 @@ impl Shell {
                 self.positions.add_vector(e, &f, -1.0, &mut fw);
             }
         }
-        self.st.asm.dofs.restrict(&fw, r);
-        self.st.fw = fw;
-        check_finite(r, jac.as_ref().map(|(_, vals)| &**vals))
+        self.st
+            .finish_assembly(fw, r, jac.as_ref().map(|(_, vals)| &**vals))
     }
 }
 
