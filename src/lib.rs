@@ -21,6 +21,7 @@ pub mod contact;
 pub mod elements;
 #[allow(unsafe_code)]
 pub mod fmi2;
+pub mod gas;
 pub mod guid;
 pub mod instance;
 pub mod integrators;

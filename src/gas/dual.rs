@@ -1,0 +1,1 @@
+//! Forward-mode dual numbers with a fixed number of derivative directions.

@@ -1,0 +1,1 @@
+//! Tests of the gas component, one quantity at a time.
