@@ -77,6 +77,7 @@ macro_rules! body_kind {
     };
 }
 
+pub mod air_spring;
 pub mod beam_2d;
 pub mod beam_3d;
 pub mod belt_drive;
@@ -98,6 +99,7 @@ pub static REGISTRY: &[&dyn BodyKind] = &[
     &beam_3d::Beam3dKind,
     &belt_drive::BeltDriveKind,
     &shell::ShellKind,
+    &air_spring::AirSpringKind,
 ];
 
 /// The kind named `name` (the scene key `kind = "..."`).

@@ -292,7 +292,7 @@ pub struct ContactSection {
     #[serde(default = "ContactSection::stiffness")]
     pub stiffness: f64,
 }
-defaults!(ContactSection { stiffness: f64 = 1.0e10 });
+defaults!(ContactSection { stiffness: f64 = 1.0e12 });
 
 /// `[mesh]`.
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]

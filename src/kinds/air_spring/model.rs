@@ -28,7 +28,7 @@
 
 use super::AirSpringScene;
 use super::scene::{Input, Output, io, names::*, piston_contour};
-use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, element_set::Eval};
+use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::ContactPointSet;
 use crate::contact::circle_friction::ContactLaw;
 use crate::contact::revolution::AxisymObstacle;
@@ -343,6 +343,10 @@ impl AirSpring {
         model.solve_design(pd)?;
         let vd = volume_gradient(n_el, &model.q, &mut model.work.grad);
         model.gas.charge(pd, vd).map_err(|e| e.to_string())?;
+        let zeros = vec![0.0; model.n_free()];
+        model.force = model
+            .reaction(&zeros)
+            .map_err(|e| format!("design state: {e}"))?;
         Ok(model)
     }
 
@@ -351,7 +355,7 @@ impl AirSpring {
     /// evolution relaxation) over rising pressure levels from the start shape.
     fn solve_design(&mut self, pd: f64) -> Result<(), String> {
         let n = self.main.asm.dofs.n_free();
-        let mut ws = crate::solver::Workspace::new(self, SolverKind::Auto)
+        let mut ws = crate::solver::Workspace::new(&*self, SolverKind::Auto)
             .map_err(|e| format!("design state: {e}"))?;
         let mut x = vec![0.0; n];
         self.main.asm.dofs.restrict(&self.q, &mut x);
@@ -359,10 +363,15 @@ impl AirSpring {
         let mut level = 0.0f64;
         let mut step = 0.1f64;
         let mut last_err = String::new();
+        // pseudo-time coefficient: starts as a strong relaxation (1e6/L² per unit mass)
+        let c_start = 1e6 / (self.main.scales[0] * self.main.scales[0]);
+        let mut c_level = c_start;
+        // residual scale: the pressure force on an element
+        let r_scale = pd * self.main.scales[0] * self.main.scales[0] / self.n_el as f64;
         while level < 1.0 {
             let target = (level + step).min(1.0);
             let saved = x.clone();
-            let mut c = 1e6 / (self.main.scales[0] * self.main.scales[0]);
+            let mut c = c_level.max(1e-3 * c_start);
             let mut r_old = f64::INFINITY;
             let mut ok = false;
             for _ in 0..400 {
@@ -413,7 +422,10 @@ impl AirSpring {
                     c *= (r_norm / r_old).clamp(0.1, 4.0);
                 }
                 r_old = r_norm;
-                if inc < 1e-11 && scale == 1.0 && c < 1e-3 {
+                if std::env::var("AIRSPRING_DEBUG").is_ok() {
+                    eprintln!("level {target:.3} |r| {r_norm:.3e} inc {inc:.3e} scale {scale:.2e} c {c:.3e}");
+                }
+                if inc < 1e-11 && scale == 1.0 && r_norm < 1e-9 * r_scale {
                     ok = true;
                     break;
                 }
@@ -422,11 +434,13 @@ impl AirSpring {
                 }
             }
             if ok {
+                c_level = c;
                 level = target;
                 step = (step * 1.5).min(0.25);
             } else {
                 x = saved;
                 step *= 0.5;
+                c_level = c_start;
                 if step < 1e-3 {
                     return Err(format!(
                         "the sleeve could not be mounted at {SPRING_DESIGN_HEIGHT} under {GAS_PRESSURE_DESIGN}: no equilibrium at {:.0} % of the pressure ({last_err}); check the geometry ({TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {BELLOWS_SLEEVE_RADIUS}, {BELLOWS_SLEEVE_LENGTH})",
@@ -435,7 +449,7 @@ impl AirSpring {
                 }
             }
         }
-        let mut q = std::mem::take(&mut self.q);
+        let mut q = self.q.clone();
         self.expand(&x, &mut q);
         self.q = q;
         Ok(())
@@ -595,16 +609,10 @@ impl AirSpring {
             jac.as_mut().map(|(c, v)| (*c, &mut **v)),
         );
         self.main.asm.dofs.restrict(&self.work.f, r);
-        crate::assembly::element_set::check_finite(
+        check_finite(
             r,
             if check { jac.as_ref().map(|(_, v)| &**v) } else { None },
         )
-    }
-
-    /// Membrane volume [m³] of full coordinates.
-    fn membrane_volume(&self, q: &[f64]) -> f64 {
-        let mut g = vec![0.0; q.len()];
-        volume_gradient(self.n_el, q, &mut g)
     }
 
     /// The quasi-static derivatives of the committed state (cached per commit).
