@@ -577,3 +577,63 @@ fn frequency_response_matches_linear_model() {
         }
     }
 }
+
+/// The gas alone under a rigid piston (issue 11, item 8; seed004 ref. D.5): area A = 0.05 m²,
+/// mass M carrying the design load `p_g A`, energy law h = 0, no reservoir, pushed with 0.05 m/s
+/// and integrated with the trapezoidal rule (Newton on the piston travel with `dp_dv` in the
+/// Jacobian, as a model couples the gas). The period matches `2π √(M/k)`, `k = γ p A²/V`
+/// (seed004 ref. D.3), and `½ M ż² − F z − p_a A z + U` stays constant.
+#[test]
+fn piston_free_oscillation() {
+    let mut g = gas(GasLaw::Energy { heat_transfer: 0.0 }, false);
+    let area = 0.05;
+    let load = P_GAUGE * area;
+    let mass = 2000.0;
+    let c0 = g.committed();
+    let k = GAMMA_AIR * c0.p_abs * area * area / c0.volume;
+    let accel = |e: &GasEval| (load - e.p_gauge * area) / mass;
+    let energy = |z: f64, v: f64, e: &GasEval| {
+        0.5 * mass * v * v - load * z - P_A * area * z + e.internal_energy
+    };
+    let (mut z, mut v, mut a) = (0.0, 0.05, accel(&c0));
+    let e_start = energy(z, v, &c0);
+    let dt = 1e-3;
+    let (mut crossings, mut worst) = (Vec::new(), 0.0f64);
+    for k_step in 1..=10_000 {
+        // trapezoidal rule: z1 = z + dt v + dt²/4 (a + a1); Newton on z1
+        let mut z1 = z + dt * v;
+        let mut e = g.evaluate(dt, V_MEMBRANE - area * z1).unwrap();
+        for _ in 0..20 {
+            let r = z1 - z - dt * v - 0.25 * dt * dt * (a + accel(&e));
+            let dr = 1.0 - 0.25 * dt * dt * (e.dp_dv * area * area / mass);
+            z1 -= r / dr;
+            e = g.evaluate(dt, V_MEMBRANE - area * z1).unwrap();
+            if r.abs() < 1e-15 {
+                break;
+            }
+        }
+        let a1 = accel(&e);
+        let v1 = v + 0.5 * dt * (a + a1);
+        g.commit(dt, V_MEMBRANE - area * z1).unwrap();
+        if z <= 0.0 && z1 > 0.0 {
+            crossings.push((k_step as f64 - 1.0 + z / (z - z1)) * dt);
+        }
+        (z, v, a) = (z1, v1, a1);
+        worst = worst.max((energy(z, v, &e) - e_start).abs());
+    }
+    let period = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+    let expected = 2.0 * PI * (mass / k).sqrt();
+    let kinetic = 0.5 * mass * 0.05f64.powi(2);
+    println!(
+        "period {period:.6} s vs {expected:.6} s; energy drift {:.2e} of ½Mv²",
+        worst / kinetic
+    );
+    assert!(
+        (period / expected - 1.0).abs() < 1e-3,
+        "period {period} vs {expected}"
+    );
+    assert!(
+        worst < 1e-4 * kinetic,
+        "energy drift {worst} J of {kinetic} J"
+    );
+}
