@@ -34,7 +34,7 @@ use flexfmu::elements::trapezoid_shell::{
 };
 use flexfmu::kinds::shell::ShellScene;
 use flexfmu::kinds::shell::model::Shell;
-use flexfmu::linalg::{LinearSolver, SolverKind};
+use flexfmu::linalg::{Backend, LinearSolver, SolverKind};
 use flexfmu::model::{JacobianCoeffs, MechanicalSystem, Model, build_model};
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::solver::simulation::{Simulation, SolverConfig};
@@ -83,10 +83,10 @@ fn index(sc: &Scene, name: &str) -> usize {
 
 /// The backend `solver.linear_solver = auto` picks for a pattern.
 fn solver_name(s: &LinearSolver) -> &'static str {
-    match s {
-        LinearSolver::Banded(_) => "banded LU",
-        LinearSolver::Sparse(_) => "sparse LU (faer, fill-reducing)",
-        LinearSolver::Bordered(_) => "bordered banded (Cuthill-McKee)",
+    match s.backend() {
+        Backend::Banded(_) => "banded LU",
+        Backend::Sparse(_) => "sparse LU (faer, fill-reducing)",
+        Backend::Bordered(_) => "bordered banded (Cuthill-McKee)",
     }
 }
 

@@ -114,6 +114,9 @@ fn render(scene: &Scene, vars: &VariableTable, guid: &str) -> String {
                 base.push_attribute((k, e.to_string().as_str()));
             }
         }
+        if unit.factor() != 1.0 {
+            base.push_attribute(("factor", format!("{:e}", unit.factor()).as_str()));
+        }
         io(w.write_event(Event::Empty(base)));
         io(w.write_event(Event::End(BytesEnd::new("Unit"))));
     }

@@ -7,6 +7,8 @@
 pub enum Unit {
     /// Dimensionless `1`.
     One,
+    /// Degree, `π/180` rad (a plane angle given in degrees in a scene and its parameter).
+    Deg,
     /// Radian `rad` (dimensionless in SI base units).
     Rad,
     /// Metre `m`.
@@ -57,6 +59,8 @@ pub enum Unit {
     NPerM,
     /// `N/m2`.
     NPerM2,
+    /// Pressure per length `N/m3` (a contact penalty per penetration).
+    NPerM3,
     /// `N.s/m2`.
     NSPerM2,
     /// `N.s`.
@@ -70,6 +74,7 @@ impl Unit {
     pub const fn name(self) -> &'static str {
         match self {
             Unit::One => "1",
+            Unit::Deg => "deg",
             Unit::Rad => "rad",
             Unit::M => "m",
             Unit::M2 => "m2",
@@ -95,6 +100,7 @@ impl Unit {
             Unit::NMSPerRad => "N.m.s/rad",
             Unit::NPerM => "N/m",
             Unit::NPerM2 => "N/m2",
+            Unit::NPerM3 => "N/m3",
             Unit::NSPerM2 => "N.s/m2",
             Unit::NS => "N.s",
             Unit::NM2S => "N.m2.s",
@@ -104,7 +110,7 @@ impl Unit {
     /// Exponents in the SI base units `[kg, m, s, K]` (radians are dimensionless).
     pub const fn exponents(self) -> [i32; 4] {
         match self {
-            Unit::One | Unit::Rad => [0, 0, 0, 0],
+            Unit::One | Unit::Rad | Unit::Deg => [0, 0, 0, 0],
             Unit::M => [0, 1, 0, 0],
             Unit::M2 => [0, 2, 0, 0],
             Unit::M3 => [0, 3, 0, 0],
@@ -128,9 +134,18 @@ impl Unit {
             Unit::NMSPerRad => [1, 2, -1, 0],
             Unit::NPerM => [1, 0, -2, 0],
             Unit::NPerM2 => [1, -1, -2, 0],
+            Unit::NPerM3 => [1, -2, -2, 0],
             Unit::NSPerM2 => [1, -1, -1, 0],
             Unit::NS => [1, 1, -1, 0],
             Unit::NM2S => [1, 3, -1, 0],
+        }
+    }
+
+    /// Factor to the base units (`BaseUnit factor`): `π/180` for degrees, else 1.
+    pub const fn factor(self) -> f64 {
+        match self {
+            Unit::Deg => std::f64::consts::PI / 180.0,
+            _ => 1.0,
         }
     }
 

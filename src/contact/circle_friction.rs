@@ -151,6 +151,31 @@ pub fn polar_angle(circle: &Circle, r: Vector2<f64>) -> f64 {
     d.y.atan2(d.x)
 }
 
+/// The smoothed normal penalty at the penetration `delta` > 0 [m]: elastic pressure `p_e`
+/// [N/m per unit length, N/m² per unit area], its slope, the damping ramp `s` and its slope,
+/// and the elastic energy density `∫ p_e dδ` (see the module notes). Shared by every obstacle.
+#[inline]
+pub fn smoothed_penalty(law: &ContactLaw, delta: f64) -> (f64, f64, f64, f64, f64) {
+    let d0 = law.smoothing;
+    if delta < d0 {
+        (
+            law.k_n * delta * delta / (2.0 * d0),
+            law.k_n * delta / d0,
+            delta / d0,
+            1.0 / d0,
+            law.k_n * delta.powi(3) / (6.0 * d0),
+        )
+    } else {
+        (
+            law.k_n * (delta - 0.5 * d0),
+            law.k_n,
+            1.0,
+            0.0,
+            law.k_n * (0.5 * delta * delta - 0.5 * d0 * delta + d0 * d0 / 6.0),
+        )
+    }
+}
+
 /// Contact of a belt point standing for the length `w` [m] with history `hist`; `None` when
 /// out of contact (then the bristle is relaxed: `z = 0`).
 pub fn evaluate(
@@ -171,25 +196,7 @@ pub fn evaluate(
     let g = rho - circle.radius;
     let delta = -g;
     let (vn, vt) = (s.v.dot(&n), s.v.dot(&t));
-    let d0 = law.smoothing;
-    // elastic pressure, its slope, the damping ramp and its slope, the elastic energy density
-    let (pe, dpe, ramp, dramp, ue) = if delta < d0 {
-        (
-            law.k_n * delta * delta / (2.0 * d0),
-            law.k_n * delta / d0,
-            delta / d0,
-            1.0 / d0,
-            law.k_n * delta.powi(3) / (6.0 * d0),
-        )
-    } else {
-        (
-            law.k_n * (delta - 0.5 * d0),
-            law.k_n,
-            1.0,
-            0.0,
-            law.k_n * (0.5 * delta * delta - 0.5 * d0 * delta + d0 * d0 / 6.0),
-        )
-    };
+    let (pe, dpe, ramp, dramp, ue) = smoothed_penalty(law, delta);
     let p = pe - law.d_n * vn * ramp;
     if p <= 0.0 {
         return None;

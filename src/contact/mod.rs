@@ -6,6 +6,7 @@
 pub mod circle_friction;
 pub mod obstacle;
 pub mod point_set;
+pub mod revolution;
 
 pub use circle_friction::{Circle, ContactLaw, PointContact, PointHistory, PointState};
 pub use obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};

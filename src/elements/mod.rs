@@ -9,7 +9,9 @@
 
 pub mod ancf_cable2d;
 pub mod ancf_shear2d;
+pub mod axisym_membrane;
 pub mod conformance;
+pub mod cord_rubber;
 pub mod corotational3d;
 pub mod element;
 pub mod finite_difference;

@@ -12,7 +12,7 @@ pub mod solver;
 pub mod sparse_lu;
 
 pub use csc::CscPattern;
-pub use solver::{LinearSolver, SolverKind};
+pub use solver::{Backend, LinearSolver, SolverKind, rank_one_len};
 
 /// A failed factorization.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

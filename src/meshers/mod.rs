@@ -4,6 +4,7 @@
 //! trapezoidal plates ([`plate`]), surfaces of revolution from a meridian ([`revolution`]) and
 //! quantities of surface meshes such as the enclosed volume ([`surface`]).
 
+pub mod bellows;
 pub mod belt_loop;
 pub mod centreline;
 pub mod plate;

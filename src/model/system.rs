@@ -68,6 +68,15 @@ pub trait MechanicalSystem {
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError>;
 
+    /// Whether the iteration matrix has a rank-one part `c g gᵀ` besides the sparse pattern
+    /// (the pressure of an enclosed gas). Then the values buffers given to
+    /// [`MechanicalSystem::residual`] are [`crate::linalg::rank_one_len`] long and the model
+    /// writes `c` and `g` after the sparse values when the buffer is that long (callers that
+    /// only need the sparse part pass `nnz` values). Default: no.
+    fn rank_one(&self) -> bool {
+        false
+    }
+
     /// Called by the static solver after every converged load increment with the free
     /// coordinates of that equilibrium. A model whose coordinates are increments from stored
     /// values (incremental rotation vectors) absorbs them here and resets `q` consistently, so

@@ -104,7 +104,14 @@ impl Workspace {
         Ok(Self {
             r: vec![0.0; n],
             dx: vec![0.0; n],
-            jac: vec![0.0; sys.pattern().nnz()],
+            jac: vec![
+                0.0;
+                if sys.rank_one() {
+                    crate::linalg::rank_one_len(sys.pattern())
+                } else {
+                    sys.pattern().nnz()
+                }
+            ],
             solver: LinearSolver::new(sys.pattern(), kind)?,
             pattern: sys.pattern().clone(),
             scales: sys.scales().to_vec(),

@@ -4,5 +4,6 @@
 
 mod ancf_cable2d;
 mod ancf_shear2d;
+mod axisym_membrane;
 mod corotational3d;
 mod trapezoid_shell;

@@ -1,0 +1,300 @@
+//! Rigid parts of revolution about the z axis seen from the meridian plane `(r, z)` of an
+//! axisymmetric membrane: the air spring's piston (a contour `r_p(z)` up to its top) and its
+//! top plate (a plane `z = z_plate` the bellows stays below). Frictionless penalty contact with
+//! the smoothed normal law of the belt ([`smoothed_penalty`]), through the shared
+//! [`super::ContactPointSet`]; each obstacle has one own coordinate, its axial position, so the
+//! force on it appears in the residual of that coordinate (the top plate's is the prescribed
+//! `top.z`: its reaction is part of the spring force).
+//!
+//! A point of the membrane stands for the reference area `w` [m²]; the law's `k_n` is then a
+//! pressure per penetration [N/m³] (`shared/reference/air-spring-physics.md` §1.7).
+
+use super::circle_friction::{ContactLaw, smoothed_penalty};
+use super::obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
+use crate::snapshot::{SnapshotError, StateReader, StateWriter};
+use nalgebra::{SVector, Vector2};
+
+/// The history of a frictionless contact: nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NoHistory;
+
+impl ContactHistory for NoHistory {
+    fn save(&self, _w: &mut StateWriter) {}
+
+    fn restore(_r: &mut StateReader) -> Result<Self, SnapshotError> {
+        Ok(NoHistory)
+    }
+}
+
+/// An obstacle of revolution in the meridian plane.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AxisymObstacle {
+    /// The piston: the solid `r < r_p(z − z₀)` for `z − z₀` up to the last contour point (its
+    /// top; above it no contact), with `z₀` the obstacle coordinate (the piston base height).
+    /// Contour points `(r, z)` relative to the base, `z` increasing; below the first point the
+    /// contour continues vertically.
+    Piston {
+        /// Contour points `[r, z]` [m].
+        contour: Vec<[f64; 2]>,
+    },
+    /// The top plate: the solid `z > z₀` for `r` up to `radius` [m] (beyond it no contact),
+    /// `z₀` the obstacle coordinate.
+    Plate {
+        /// Outer radius of the plate [m].
+        radius: f64,
+    },
+}
+
+/// An active contact point: force on the point and its derivatives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisymContact {
+    /// Force on the point `w p n` [N] (`n` the outward normal of the obstacle).
+    pub force: Vector2<f64>,
+    /// Penetration [m].
+    pub penetration: f64,
+    /// `∂δ/∂(r, z, z₀)`.
+    grad: [f64; 3],
+    /// Normal `n`.
+    normal: Vector2<f64>,
+    /// `∂p/∂δ` and `∂p/∂δ̇` times `w`.
+    dp: [f64; 2],
+    /// Elastic energy [J].
+    energy: f64,
+    /// Damping power [W].
+    power: f64,
+}
+
+impl AxisymObstacle {
+    /// Penetration `δ` (positive inside), normal and `∂δ/∂(r, z, z₀)` of a point `(r, z)` with
+    /// the obstacle at `z0`; `None` where the obstacle cannot be touched.
+    fn gap(&self, r: f64, z: f64, z0: f64) -> Option<(f64, Vector2<f64>, [f64; 3])> {
+        match self {
+            AxisymObstacle::Piston { contour } => {
+                let zr = z - z0;
+                let last = contour.last()?;
+                if zr > last[1] {
+                    return None;
+                }
+                // the segment containing zr (vertical extension below the first point)
+                let mut rp = contour[0][0];
+                let mut slope = 0.0;
+                for s in contour.windows(2) {
+                    let (a, b) = (s[0], s[1]);
+                    if zr >= a[1] && zr <= b[1] && b[1] > a[1] {
+                        slope = (b[0] - a[0]) / (b[1] - a[1]);
+                        rp = a[0] + slope * (zr - a[1]);
+                        break;
+                    }
+                }
+                let c = 1.0 / (1.0 + slope * slope).sqrt();
+                let delta = (rp - r) * c;
+                let n = Vector2::new(c, -slope * c);
+                Some((delta, n, [-c, slope * c, -slope * c]))
+            }
+            AxisymObstacle::Plate { radius } => {
+                if r > *radius {
+                    return None;
+                }
+                Some((z - z0, Vector2::new(0.0, -1.0), [0.0, 1.0, -1.0]))
+            }
+        }
+    }
+}
+
+impl ObstacleContact<2> for AxisymContact {
+    fn force(&self) -> SVector<f64, 2> {
+        self.force
+    }
+
+    /// Force on the obstacle along the axis: `−F_z`.
+    fn generalized_force(&self, _l: usize) -> f64 {
+        -self.force.y
+    }
+
+    fn iteration_block(&self, ks: f64, kd: f64, out: &mut [f64]) {
+        // F = (w p n, −w p n_z) over x = (r, z, z₀); ∂p/∂x = p_δ ∂δ/∂x (+ p_δ̇ for rates)
+        let nf = [self.normal.x, self.normal.y, -self.normal.y];
+        for j in 0..3 {
+            for i in 0..3 {
+                out[i + 3 * j] = nf[i] * self.grad[j] * (ks * self.dp[0] + kd * self.dp[1]);
+            }
+        }
+    }
+
+    fn slipping(&self) -> bool {
+        false
+    }
+
+    fn normal_energy(&self) -> f64 {
+        self.energy
+    }
+
+    fn dissipation(&self) -> f64 {
+        self.power
+    }
+}
+
+impl Obstacle<2> for AxisymObstacle {
+    const N_COORDS: usize = 1;
+    type History = NoHistory;
+    type Contact = AxisymContact;
+
+    /// Every segment is checked (the points decide): the meridian is short.
+    fn near(&self, _a: &SVector<f64, 2>, _b: &SVector<f64, 2>) -> bool {
+        true
+    }
+
+    fn evaluate(
+        &self,
+        law: &ContactLaw,
+        w: f64,
+        p: &PointMotion<2>,
+        x: &[f64],
+        xd: &[f64],
+        _hist: &NoHistory,
+    ) -> Option<AxisymContact> {
+        let (delta, n, grad) = self.gap(p.r.x, p.r.y, x[0])?;
+        if delta <= 0.0 {
+            return None;
+        }
+        let rate = grad[0] * p.v.x + grad[1] * p.v.y + grad[2] * xd[0];
+        let (pe, dpe, ramp, dramp, ue) = smoothed_penalty(law, delta);
+        let pressure = pe + law.d_n * ramp * rate;
+        if pressure <= 0.0 {
+            return None;
+        }
+        Some(AxisymContact {
+            force: w * pressure * n,
+            penetration: delta,
+            grad,
+            normal: n,
+            dp: [w * (dpe + law.d_n * dramp * rate), w * law.d_n * ramp],
+            energy: w * ue,
+            power: w * law.d_n * ramp * rate * rate,
+        })
+    }
+
+    fn committed(&self, _p: &PointMotion<2>, _x: &[f64], _c: Option<&AxisymContact>) -> NoHistory {
+        NoHistory
+    }
+
+    fn friction_work(_w: f64, _h: &NoHistory, _c: &AxisymContact) -> f64 {
+        0.0
+    }
+
+    fn shift_history(_h: &mut NoHistory, _l: usize, _by: f64) {}
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn law() -> ContactLaw {
+        ContactLaw {
+            k_n: 1e9,
+            d_n: 1e4,
+            k_t: 0.0,
+            d_t: 0.0,
+            mu: 0.0,
+            smoothing: 1e-5,
+            blend: 0.0,
+        }
+    }
+
+    /// The iteration block against finite differences of the force in position, obstacle
+    /// coordinate and rates, on a tapered piston and the plate.
+    #[test]
+    fn block_matches_finite_differences() {
+        let piston = AxisymObstacle::Piston {
+            contour: vec![[0.11, 0.0], [0.1, 0.1], [0.1, 0.15]],
+        };
+        let plate = AxisymObstacle::Plate { radius: 0.2 };
+        let cases = [
+            (&piston, [0.1045, 0.05, 0.001], [0.1, -0.2, 0.05]),
+            (&plate, [0.13, 0.25002, 0.25], [0.1, 0.3, -0.2]),
+        ];
+        for (ob, x, v) in cases {
+            let eval = |x: [f64; 3], v: [f64; 3]| {
+                let p = PointMotion {
+                    r: Vector2::new(x[0], x[1]),
+                    v: Vector2::new(v[0], v[1]),
+                };
+                let c = ob
+                    .evaluate(&law(), 0.01, &p, &[x[2]], &[v[2]], &NoHistory)
+                    .expect("in contact");
+                [c.force.x, c.force.y, c.generalized_force(0)]
+            };
+            let p = PointMotion {
+                r: Vector2::new(x[0], x[1]),
+                v: Vector2::new(v[0], v[1]),
+            };
+            let c = ob
+                .evaluate(&law(), 0.01, &p, &[x[2]], &[v[2]], &NoHistory)
+                .unwrap();
+            let mut ks = [0.0; 9];
+            let mut kd = [0.0; 9];
+            c.iteration_block(1.0, 0.0, &mut ks);
+            c.iteration_block(0.0, 1.0, &mut kd);
+            let h = 1e-9;
+            for j in 0..3 {
+                let (mut xp, mut xm) = (x, x);
+                xp[j] += h;
+                xm[j] -= h;
+                let (fp, fm) = (eval(xp, v), eval(xm, v));
+                let (mut vp, mut vm) = (v, v);
+                vp[j] += 1e-3;
+                vm[j] -= 1e-3;
+                let (gp, gm) = (eval(x, vp), eval(x, vm));
+                for i in 0..3 {
+                    let fd = (fp[i] - fm[i]) / (2.0 * h);
+                    assert!(
+                        (fd - ks[i + 3 * j]).abs() <= 1e-5 * (1.0 + fd.abs()),
+                        "{i}{j}"
+                    );
+                    let fdv = (gp[i] - gm[i]) / 2e-3;
+                    assert!(
+                        (fdv - kd[i + 3 * j]).abs() <= 1e-6 * (1.0 + fdv.abs()),
+                        "v {i}{j}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The force pushes out of the piston and down from the plate; none above the piston top,
+    /// beyond the plate or outside.
+    #[test]
+    fn forces_point_out_of_the_solid() {
+        let piston = AxisymObstacle::Piston {
+            contour: vec![[0.1, 0.0], [0.1, 0.15]],
+        };
+        let at = |r: f64, z: f64| PointMotion {
+            r: Vector2::new(r, z),
+            v: Vector2::zeros(),
+        };
+        let c = piston
+            .evaluate(&law(), 1.0, &at(0.0999, 0.1), &[0.0], &[0.0], &NoHistory)
+            .unwrap();
+        assert!(c.force.x > 0.0 && c.force.y == 0.0);
+        assert!(
+            piston
+                .evaluate(&law(), 1.0, &at(0.0999, 0.16), &[0.0], &[0.0], &NoHistory)
+                .is_none()
+        );
+        assert!(
+            piston
+                .evaluate(&law(), 1.0, &at(0.1001, 0.1), &[0.0], &[0.0], &NoHistory)
+                .is_none()
+        );
+        let plate = AxisymObstacle::Plate { radius: 0.15 };
+        let c = plate
+            .evaluate(&law(), 1.0, &at(0.1, 0.2501), &[0.25], &[0.0], &NoHistory)
+            .unwrap();
+        assert!(c.force.y < 0.0 && c.generalized_force(0) > 0.0);
+        assert!(
+            plate
+                .evaluate(&law(), 1.0, &at(0.16, 0.2501), &[0.25], &[0.0], &NoHistory)
+                .is_none()
+        );
+    }
+}

@@ -1,0 +1,305 @@
+//! Kind `air_spring`: a cord–rubber bellows of revolution enclosing gas between a top (bead)
+//! plate and a piston, as in a truck, bus or rail air spring (issue 11). The rolling-lobe
+//! sleeve is mounted stress-free as a cylinder (`bellows.sleeve_radius`,
+//! `bellows.sleeve_length`) between the top bead ring and the piston's top edge and rolls on
+//! the piston; the gas ([`crate::gas`]) follows a polytropic law or an energy balance with
+//! heat transfer, optionally with a reservoir behind an orifice and a pipe; its mass is fixed by
+//! the design state (`gas.pressure_design` at `spring.design_height`).
+//!
+//! Fidelity levels (`model.fidelity`): 2 = axisymmetric membrane of 2-node conical elements
+//! ([`crate::elements::axisym_membrane`]) with the cord–rubber wall law
+//! ([`crate::elements::cord_rubber`]) and frictionless contact with piston and top plate
+//! ([`crate::contact::revolution`]). Level 1 (the seed-004 shell) and level 3 (effective-area
+//! table) are declared by issue 11 and not built yet: the parameter admits only the levels
+//! that exist.
+//!
+//! Coupling: the master moves the top plate (`top.z`, `top.vz`, the height above the piston
+//! base) and reads the force `top.fz` (positive pushes the plate up) with its directional
+//! derivative (the interface stiffness).
+
+pub mod model;
+pub mod scene;
+
+use crate::scene::tables::{ExperimentSection, FmuSection, SolverSection};
+use model::AirSpring;
+use serde::Deserialize;
+
+body_kind! {
+    /// The kind (registry entry).
+    AirSpringKind {
+        tables: AirSpringScene,
+        model: AirSpring,
+        name: "air_spring",
+        summary: "air spring: cord-rubber bellows enclosing gas, rolling on a piston",
+        legacy: |_t| false,
+    }
+}
+
+/// An `air_spring` scene file (`kind = "air_spring"` is required). Every table has the
+/// reference spring of issue 11 as its defaults.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AirSpringScene {
+    /// `kind = "air_spring"`.
+    #[serde(default)]
+    pub kind: Option<String>,
+    /// FMU identity.
+    pub fmu: FmuSection,
+    /// Default experiment.
+    #[serde(default)]
+    pub experiment: ExperimentSection,
+    /// Solver settings.
+    #[serde(default)]
+    pub solver: SolverSection,
+    /// Fidelity level.
+    #[serde(default)]
+    pub model: ModelSection,
+    /// The piston.
+    #[serde(default)]
+    pub piston: PistonSection,
+    /// The top plate.
+    #[serde(default)]
+    pub top_plate: TopPlateSection,
+    /// The bellows (sleeve and wall).
+    #[serde(default)]
+    pub bellows: BellowsSection,
+    /// The design state.
+    #[serde(default)]
+    pub spring: SpringSection,
+    /// The gas.
+    #[serde(default)]
+    pub gas: GasSection,
+    /// The ambient air.
+    #[serde(default)]
+    pub ambient: AmbientSection,
+    /// An optional reservoir (with `[orifice]` and `[pipe]`).
+    #[serde(default)]
+    pub reservoir: Option<ReservoirSection>,
+    /// The orifice between bag and reservoir.
+    #[serde(default)]
+    pub orifice: Option<OrificeSection>,
+    /// The pipe between bag and reservoir.
+    #[serde(default)]
+    pub pipe: Option<PipeSection>,
+    /// Contact constants.
+    #[serde(default)]
+    pub contact: ContactSection,
+    /// Mesh sizes.
+    #[serde(default)]
+    pub mesh: MeshSection,
+}
+
+macro_rules! defaults {
+    ($t:ident { $($f:ident : $ty:ty = $v:expr),* $(,)? }) => {
+        impl Default for $t {
+            fn default() -> Self {
+                Self { $($f: $v),* }
+            }
+        }
+        impl $t {
+            $(
+                #[allow(dead_code)]
+                fn $f() -> $ty {
+                    $v
+                }
+            )*
+        }
+    };
+}
+
+/// `[model]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSection {
+    /// `model.fidelity`: 2 = axisymmetric membrane (1 = shell and 3 = table are not built
+    /// yet).
+    #[serde(default = "ModelSection::fidelity")]
+    pub fidelity: i64,
+}
+defaults!(ModelSection { fidelity: i64 = 2 });
+
+/// `[piston]`: a cylinder of `radius` from the piston base (z = 0) up to its top at `height`,
+/// or a contour.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PistonSection {
+    /// `piston.radius` [m].
+    #[serde(default = "PistonSection::radius")]
+    pub radius: f64,
+    /// `piston.height` [m]: its top above the base.
+    #[serde(default = "PistonSection::height")]
+    pub height: f64,
+    /// A contoured piston: points `[r, z]` [m] from the base up, z increasing, the last at
+    /// the top (then `radius` and `height` are the last point's and must not be given
+    /// differently). Not a parameter.
+    #[serde(default = "PistonSection::contour")]
+    pub contour: Option<Vec<[f64; 2]>>,
+}
+defaults!(PistonSection {
+    radius: f64 = 0.100,
+    height: f64 = 0.15,
+    contour: Option<Vec<[f64; 2]>> = None,
+});
+
+/// `[top_plate]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TopPlateSection {
+    /// `top_plate.bead_radius` [m]: where the sleeve is clamped to the plate.
+    #[serde(default = "TopPlateSection::bead_radius")]
+    pub bead_radius: f64,
+}
+defaults!(TopPlateSection { bead_radius: f64 = 0.140 });
+
+/// `[bellows]`: the sleeve and its cord–rubber wall.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BellowsSection {
+    /// `bellows.sleeve_radius` [m] of the stress-free cylinder.
+    #[serde(default = "BellowsSection::sleeve_radius")]
+    pub sleeve_radius: f64,
+    /// `bellows.sleeve_length` [m] of the stress-free cylinder.
+    #[serde(default = "BellowsSection::sleeve_length")]
+    pub sleeve_length: f64,
+    /// `bellows.cord_angle` [deg] from the meridian in the stress-free sleeve.
+    #[serde(default = "BellowsSection::cord_angle")]
+    pub cord_angle: f64,
+    /// `bellows.n_plies`.
+    #[serde(default = "BellowsSection::n_plies")]
+    pub n_plies: i64,
+    /// `bellows.cord_stiffness` [N/m per ply].
+    #[serde(default = "BellowsSection::cord_stiffness")]
+    pub cord_stiffness: f64,
+    /// `bellows.matrix_stiffness` [N/m]: `E t` of the rubber matrix (ν = 0).
+    #[serde(default = "BellowsSection::matrix_stiffness")]
+    pub matrix_stiffness: f64,
+    /// `bellows.thickness` [m].
+    #[serde(default = "BellowsSection::thickness")]
+    pub thickness: f64,
+    /// `bellows.density` [kg/m3].
+    #[serde(default = "BellowsSection::density")]
+    pub density: f64,
+    /// `bellows.tension_only`: cords carry no compression.
+    #[serde(default = "BellowsSection::tension_only")]
+    pub tension_only: bool,
+}
+defaults!(BellowsSection {
+    sleeve_radius: f64 = 0.125,
+    sleeve_length: f64 = 0.300,
+    cord_angle: f64 = 54.0,
+    n_plies: i64 = 2,
+    cord_stiffness: f64 = 1.5e6,
+    matrix_stiffness: f64 = 2.0e4,
+    thickness: f64 = 0.004,
+    density: f64 = 1100.0,
+    tension_only: bool = false,
+});
+
+/// `[spring]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSection {
+    /// `spring.design_height` [m]: top plate above the piston base at the design state (and
+    /// the start value of `top.z`).
+    #[serde(default = "SpringSection::design_height")]
+    pub design_height: f64,
+}
+defaults!(SpringSection { design_height: f64 = 0.25 });
+
+/// `[gas]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GasSection {
+    /// `gas.pressure_design` [Pa gauge] at the design height.
+    #[serde(default = "GasSection::pressure_design")]
+    pub pressure_design: f64,
+    /// `gas.model`: `"polytropic"` (1) or `"energy"` (2, energy balance with heat transfer).
+    #[serde(default = "GasSection::model")]
+    pub model: String,
+    /// `gas.polytropic_exponent` [1] of the polytropic law.
+    #[serde(default = "GasSection::polytropic_exponent")]
+    pub polytropic_exponent: f64,
+    /// `gas.heat_transfer` [W/K] of the energy law.
+    #[serde(default = "GasSection::heat_transfer")]
+    pub heat_transfer: f64,
+    /// `gas.inner_volume` [m3]: fixed volume joined to the bag (piston interior).
+    #[serde(default = "GasSection::inner_volume")]
+    pub inner_volume: f64,
+}
+defaults!(GasSection {
+    pressure_design: f64 = 5.0e5,
+    model: String = "polytropic".to_string(),
+    polytropic_exponent: f64 = 1.4,
+    heat_transfer: f64 = 0.0,
+    inner_volume: f64 = 0.0,
+});
+
+/// `[ambient]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AmbientSection {
+    /// `ambient.pressure` [Pa].
+    #[serde(default = "AmbientSection::pressure")]
+    pub pressure: f64,
+    /// `ambient.temperature` [K].
+    #[serde(default = "AmbientSection::temperature")]
+    pub temperature: f64,
+}
+defaults!(AmbientSection {
+    pressure: f64 = 101_325.0,
+    temperature: f64 = 293.15,
+});
+
+/// `[reservoir]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReservoirSection {
+    /// `reservoir.volume` [m3].
+    pub volume: f64,
+}
+
+/// `[orifice]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OrificeSection {
+    /// `orifice.diameter` [m].
+    pub diameter: f64,
+    /// `orifice.cd` [1].
+    #[serde(default = "OrificeSection::cd")]
+    pub cd: f64,
+}
+impl OrificeSection {
+    fn cd() -> f64 {
+        0.7
+    }
+}
+
+/// `[pipe]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PipeSection {
+    /// `pipe.length` [m].
+    pub length: f64,
+    /// `pipe.diameter` [m].
+    pub diameter: f64,
+}
+
+/// `[contact]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    /// `contact.stiffness` [N/m3]: penalty pressure per penetration.
+    #[serde(default = "ContactSection::stiffness")]
+    pub stiffness: f64,
+}
+defaults!(ContactSection { stiffness: f64 = 1.0e10 });
+
+/// `[mesh]`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSection {
+    /// `mesh.n_meridional`: elements along the sleeve.
+    #[serde(default = "MeshSection::n_meridional")]
+    pub n_meridional: i64,
+}
+defaults!(MeshSection { n_meridional: i64 = 60 });

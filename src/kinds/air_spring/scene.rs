@@ -1,0 +1,507 @@
+//! Kind `air_spring`: checks of the tables, parameters, inputs and outputs, and what each
+//! input and output means to the model.
+
+use super::AirSpringScene;
+use crate::kinds::KindIo;
+use crate::scene::params::{Check, ParamDef, int_param};
+use crate::units::Unit;
+use crate::variables::Value;
+
+/// What an input drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Input {
+    /// `top.z` [m]: height of the top plate above the piston base.
+    TopZ,
+    /// `top.vz` [m/s]: its velocity.
+    TopVz,
+}
+
+/// What an output reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// `top.fz` [N].
+    TopFz,
+    /// `gas.pressure` [Pa] absolute.
+    Pressure,
+    /// `gas.pressure_gauge` [Pa].
+    PressureGauge,
+    /// `gas.volume` [m3].
+    Volume,
+    /// `gas.temperature` [K].
+    Temperature,
+    /// `gas.mass` [kg].
+    Mass,
+    /// `spring.height` [m].
+    Height,
+    /// `spring.effective_area` [m2].
+    EffectiveArea,
+    /// `spring.volumetric_area` [m2].
+    VolumetricArea,
+    /// `spring.stiffness` [N/m].
+    Stiffness,
+    /// `bellows.lobe_radius` [m].
+    LobeRadius,
+    /// `reservoir.pressure` [Pa].
+    ReservoirPressure,
+    /// `energy.strain` [J].
+    StrainEnergy,
+    /// `energy.kinetic` [J].
+    KineticEnergy,
+    /// `energy.gas` [J].
+    GasEnergy,
+    /// `energy.plate_work` [J].
+    PlateWork,
+    /// `energy.dissipated` [J].
+    Dissipated,
+}
+
+/// Parameter names (public interface, issue 11 item 6: never rename silently).
+pub mod names {
+    /// Fidelity level (Integer).
+    pub const MODEL_FIDELITY: &str = "model.fidelity";
+    /// Piston radius [m].
+    pub const PISTON_RADIUS: &str = "piston.radius";
+    /// Piston height [m].
+    pub const PISTON_HEIGHT: &str = "piston.height";
+    /// Bead radius of the top plate [m].
+    pub const TOP_PLATE_BEAD_RADIUS: &str = "top_plate.bead_radius";
+    /// Sleeve radius [m].
+    pub const BELLOWS_SLEEVE_RADIUS: &str = "bellows.sleeve_radius";
+    /// Sleeve length [m].
+    pub const BELLOWS_SLEEVE_LENGTH: &str = "bellows.sleeve_length";
+    /// Cord angle [deg].
+    pub const BELLOWS_CORD_ANGLE: &str = "bellows.cord_angle";
+    /// Plies (Integer).
+    pub const BELLOWS_N_PLIES: &str = "bellows.n_plies";
+    /// Cord stiffness per ply [N/m].
+    pub const BELLOWS_CORD_STIFFNESS: &str = "bellows.cord_stiffness";
+    /// Matrix stiffness [N/m].
+    pub const BELLOWS_MATRIX_STIFFNESS: &str = "bellows.matrix_stiffness";
+    /// Wall thickness [m].
+    pub const BELLOWS_THICKNESS: &str = "bellows.thickness";
+    /// Wall density [kg/m3].
+    pub const BELLOWS_DENSITY: &str = "bellows.density";
+    /// Tension-only cords (Boolean).
+    pub const BELLOWS_TENSION_ONLY: &str = "bellows.tension_only";
+    /// Design height [m].
+    pub const SPRING_DESIGN_HEIGHT: &str = "spring.design_height";
+    /// Design gauge pressure [Pa].
+    pub const GAS_PRESSURE_DESIGN: &str = "gas.pressure_design";
+    /// Polytropic exponent [1].
+    pub const GAS_POLYTROPIC_EXPONENT: &str = "gas.polytropic_exponent";
+    /// Gas law (Integer: 1 polytropic, 2 energy).
+    pub const GAS_MODEL: &str = "gas.model";
+    /// Heat transfer [W/K].
+    pub const GAS_HEAT_TRANSFER: &str = "gas.heat_transfer";
+    /// Inner volume [m3].
+    pub const GAS_INNER_VOLUME: &str = "gas.inner_volume";
+    /// Ambient pressure [Pa].
+    pub const AMBIENT_PRESSURE: &str = "ambient.pressure";
+    /// Ambient temperature [K].
+    pub const AMBIENT_TEMPERATURE: &str = "ambient.temperature";
+    /// Reservoir volume [m3].
+    pub const RESERVOIR_VOLUME: &str = "reservoir.volume";
+    /// Orifice diameter [m].
+    pub const ORIFICE_DIAMETER: &str = "orifice.diameter";
+    /// Orifice discharge coefficient [1].
+    pub const ORIFICE_CD: &str = "orifice.cd";
+    /// Pipe length [m].
+    pub const PIPE_LENGTH: &str = "pipe.length";
+    /// Pipe diameter [m].
+    pub const PIPE_DIAMETER: &str = "pipe.diameter";
+    /// Contact penalty [N/m3].
+    pub const CONTACT_STIFFNESS: &str = "contact.stiffness";
+    /// Elements along the sleeve (Integer).
+    pub const MESH_N_MERIDIONAL: &str = "mesh.n_meridional";
+}
+
+use names::*;
+
+/// Gas laws (values of `gas.model`).
+pub const GAS_MODELS: &[(&str, i32)] = &[("polytropic", 1), ("energy", 2)];
+
+/// Fidelity levels that are built (values of `model.fidelity`).
+pub const FIDELITIES: &[(&str, i32)] = &[("axisymmetric_membrane", 2)];
+
+/// Checks what the parameters cannot: the reservoir tables come together, the contour is
+/// increasing, the gas law is known.
+pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
+    let mut errs = vec![];
+    if !GAS_MODELS.iter().any(|(n, _)| *n == s.gas.model) {
+        errs.push(format!(
+            "gas.model = \"{}\": must be one of {}",
+            s.gas.model,
+            crate::scene::params::describe(GAS_MODELS)
+        ));
+    }
+    if !FIDELITIES.iter().any(|(_, c)| *c as i64 == s.model.fidelity) {
+        errs.push(format!(
+            "model.fidelity = {}: the levels built are {} (level 1, the seed-004 shell, and level 3, the effective-area table, are not built yet)",
+            s.model.fidelity,
+            crate::scene::params::describe(FIDELITIES)
+        ));
+    }
+    let parts = [
+        s.reservoir.is_some(),
+        s.orifice.is_some(),
+        s.pipe.is_some(),
+    ];
+    if parts.iter().any(|&p| p) && !parts.iter().all(|&p| p) {
+        errs.push(
+            "reservoir, orifice, pipe: a reservoir needs all three tables ([reservoir] volume, [orifice] diameter, [pipe] length and diameter)".into(),
+        );
+    }
+    if let Some(c) = &s.piston.contour {
+        if c.len() < 2 {
+            errs.push("piston.contour: give at least two points [r, z]".into());
+        } else if c.windows(2).any(|w| w[1][1] <= w[0][1])
+            || c.iter().any(|p| !(p[0] > 0.0 && p[0].is_finite() && p[1].is_finite()))
+        {
+            errs.push(
+                "piston.contour: points [r, z] with r > 0 and z strictly increasing from the base up"
+                    .into(),
+            );
+        }
+    }
+    if errs.is_empty() { Ok(()) } else { Err(errs) }
+}
+
+/// The piston contour `[r, z]` points of a scene with the parameter values (cylinder from
+/// `piston.radius`, `piston.height` unless a contour is given).
+pub fn piston_contour(s: &AirSpringScene, radius: f64, height: f64) -> Vec<[f64; 2]> {
+    match &s.piston.contour {
+        Some(c) => c.clone(),
+        None => vec![[radius, 0.0], [radius, height]],
+    }
+}
+
+fn real(name: &'static str, v: f64, unit: Unit, what: &str, check: Check) -> ParamDef {
+    ParamDef::new(name, Value::Real(v), Some(unit), what, check)
+}
+
+/// The parameters.
+pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
+    let fid = int_param(s.model.fidelity, MODEL_FIDELITY)?;
+    let mut defs = vec![ParamDef::new(
+        MODEL_FIDELITY,
+        Value::Integer(fid),
+        None,
+        "Fidelity level: 2 = axisymmetric membrane (2-node conical elements on the meridian)",
+        Check::Choice(FIDELITIES),
+    )];
+    let (pr, ph) = match &s.piston.contour {
+        Some(c) => {
+            let top = c.last().copied().unwrap_or([0.0, 0.0]);
+            (top[0], top[1])
+        }
+        None => (s.piston.radius, s.piston.height),
+    };
+    defs.extend([
+        real(
+            PISTON_RADIUS,
+            pr,
+            Unit::M,
+            "Piston radius (of its top edge for a contoured piston; the contour is not a parameter)",
+            Check::Positive,
+        ),
+        real(
+            PISTON_HEIGHT,
+            ph,
+            Unit::M,
+            "Height of the piston top above its base (where the sleeve is clamped)",
+            Check::Positive,
+        ),
+        real(
+            TOP_PLATE_BEAD_RADIUS,
+            s.top_plate.bead_radius,
+            Unit::M,
+            "Radius of the bead ring where the sleeve is clamped to the top plate",
+            Check::Positive,
+        ),
+        real(
+            BELLOWS_SLEEVE_RADIUS,
+            s.bellows.sleeve_radius,
+            Unit::M,
+            "Radius of the stress-free sleeve (a cylinder)",
+            Check::Positive,
+        ),
+        real(
+            BELLOWS_SLEEVE_LENGTH,
+            s.bellows.sleeve_length,
+            Unit::M,
+            "Length of the stress-free sleeve",
+            Check::Positive,
+        ),
+        real(
+            BELLOWS_CORD_ANGLE,
+            s.bellows.cord_angle,
+            Unit::Deg,
+            "Cord angle from the meridian in the stress-free sleeve (plies alternate +/-)",
+            Check::Open(0.0, 90.0),
+        ),
+        ParamDef::new(
+            BELLOWS_N_PLIES,
+            Value::Integer(int_param(s.bellows.n_plies, BELLOWS_N_PLIES)?),
+            None,
+            "Number of cord plies",
+            Check::IntRange(1, 16),
+        ),
+        real(
+            BELLOWS_CORD_STIFFNESS,
+            s.bellows.cord_stiffness,
+            Unit::NPerM,
+            "Cord stiffness K_c of one ply (force per unit width per unit cord strain): W_c = K_c (lambda_c - 1)^2 / 2 per reference area",
+            Check::NonNegative,
+        ),
+        real(
+            BELLOWS_MATRIX_STIFFNESS,
+            s.bellows.matrix_stiffness,
+            Unit::NPerM,
+            "Membrane stiffness E t of the rubber matrix (nu = 0)",
+            Check::Positive,
+        ),
+        real(
+            BELLOWS_THICKNESS,
+            s.bellows.thickness,
+            Unit::M,
+            "Wall thickness (mass per area = density * thickness)",
+            Check::Positive,
+        ),
+        real(
+            BELLOWS_DENSITY,
+            s.bellows.density,
+            Unit::KgPerM3,
+            "Wall density",
+            Check::Positive,
+        ),
+        ParamDef::new(
+            BELLOWS_TENSION_ONLY,
+            Value::Boolean(s.bellows.tension_only),
+            None,
+            "Cords carry tension only (default: linear in tension and compression)",
+            Check::None,
+        ),
+        real(
+            SPRING_DESIGN_HEIGHT,
+            s.spring.design_height,
+            Unit::M,
+            "Design height: top plate above the piston base where the gas is charged to gas.pressure_design",
+            Check::Positive,
+        ),
+        real(
+            GAS_PRESSURE_DESIGN,
+            s.gas.pressure_design,
+            Unit::Pa,
+            "Gauge pressure at the design height (fixes the gas mass)",
+            Check::Positive,
+        ),
+        ParamDef::new(
+            GAS_MODEL,
+            Value::Integer(
+                GAS_MODELS
+                    .iter()
+                    .find(|(n, _)| *n == s.gas.model)
+                    .map_or(1, |(_, c)| *c),
+            ),
+            None,
+            "Gas law: 1 = polytropic p V^n = const, 2 = energy balance with heat transfer (adiabatic for gas.heat_transfer = 0, isothermal as it grows)",
+            Check::Choice(GAS_MODELS),
+        ),
+        real(
+            GAS_POLYTROPIC_EXPONENT,
+            s.gas.polytropic_exponent,
+            Unit::One,
+            "Polytropic exponent n of the polytropic law (1 isothermal, 1.4 adiabatic)",
+            Check::Positive,
+        ),
+        real(
+            GAS_HEAT_TRANSFER,
+            s.gas.heat_transfer,
+            Unit::WPerK,
+            "Heat-transfer coefficient between the gas and the ambient (energy law)",
+            Check::NonNegative,
+        ),
+        real(
+            GAS_INNER_VOLUME,
+            s.gas.inner_volume,
+            Unit::M3,
+            "Fixed volume joined to the bag (piston interior)",
+            Check::NonNegative,
+        ),
+        real(
+            AMBIENT_PRESSURE,
+            s.ambient.pressure,
+            Unit::Pa,
+            "Ambient (absolute) pressure",
+            Check::Positive,
+        ),
+        real(
+            AMBIENT_TEMPERATURE,
+            s.ambient.temperature,
+            Unit::K,
+            "Ambient temperature (charge temperature and heat sink)",
+            Check::Positive,
+        ),
+    ]);
+    if let (Some(r), Some(o), Some(p)) = (&s.reservoir, &s.orifice, &s.pipe) {
+        defs.extend([
+            real(
+                RESERVOIR_VOLUME,
+                r.volume,
+                Unit::M3,
+                "Reservoir volume",
+                Check::Positive,
+            ),
+            real(
+                ORIFICE_DIAMETER,
+                o.diameter,
+                Unit::M,
+                "Orifice diameter",
+                Check::Positive,
+            ),
+            real(
+                ORIFICE_CD,
+                o.cd,
+                Unit::One,
+                "Orifice discharge coefficient",
+                Check::Closed(0.01, 1.0),
+            ),
+            real(
+                PIPE_LENGTH,
+                p.length,
+                Unit::M,
+                "Pipe length (inertance)",
+                Check::Positive,
+            ),
+            real(
+                PIPE_DIAMETER,
+                p.diameter,
+                Unit::M,
+                "Pipe diameter",
+                Check::Positive,
+            ),
+        ]);
+    }
+    defs.push(real(
+        CONTACT_STIFFNESS,
+        s.contact.stiffness,
+        Unit::NPerM3,
+        "Penalty of the contact with piston and top plate (pressure per penetration)",
+        Check::Positive,
+    ));
+    defs.push(ParamDef::new(
+        MESH_N_MERIDIONAL,
+        Value::Integer(int_param(s.mesh.n_meridional, MESH_N_MERIDIONAL)?),
+        None,
+        "Elements along the sleeve",
+        Check::IntRange(8, 100_000),
+    ));
+    Ok(defs)
+}
+
+/// The inputs and outputs.
+pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
+    let mut io = KindIo::default();
+    io.input(
+        "top.z".into(),
+        s.spring.design_height,
+        Unit::M,
+        "Height of the top plate above the piston base (start: the design height)".into(),
+        Input::TopZ,
+    );
+    io.input(
+        "top.vz".into(),
+        0.0,
+        Unit::MPerS,
+        "Velocity of the top plate along the axis".into(),
+        Input::TopVz,
+    );
+    io.output(
+        "top.fz".into(),
+        Unit::N,
+        "Axial force of the spring on the top plate (positive pushes it up)".into(),
+        Output::TopFz,
+    )
+    .depending_on(&["top.z", "top.vz"]);
+    let outs: &[(&str, Unit, &str, Output)] = &[
+        ("gas.pressure", Unit::Pa, "Absolute gas pressure in the bag", Output::Pressure),
+        (
+            "gas.pressure_gauge",
+            Unit::Pa,
+            "Gauge gas pressure in the bag (absolute minus ambient)",
+            Output::PressureGauge,
+        ),
+        (
+            "gas.volume",
+            Unit::M3,
+            "Gas volume of the bag (membrane volume plus gas.inner_volume)",
+            Output::Volume,
+        ),
+        ("gas.temperature", Unit::K, "Gas temperature in the bag", Output::Temperature),
+        ("gas.mass", Unit::Kg, "Gas mass in the bag", Output::Mass),
+        (
+            "spring.height",
+            Unit::M,
+            "Height of the top plate above the piston base in the committed state",
+            Output::Height,
+        ),
+        (
+            "spring.effective_area",
+            Unit::M2,
+            "Effective area top.fz / gas.pressure_gauge",
+            Output::EffectiveArea,
+        ),
+        (
+            "spring.volumetric_area",
+            Unit::M2,
+            "Volumetric area -dV/dz = dV/d(top.z) along the quasi-static path with the gas's instantaneous response",
+            Output::VolumetricArea,
+        ),
+        (
+            "spring.stiffness",
+            Unit::NPerM,
+            "Quasi-static stiffness -d(top.fz)/d(top.z) (compression positive) with the gas's instantaneous response (polytropic law; adiabatic for the energy law; bag only with a reservoir)",
+            Output::Stiffness,
+        ),
+        (
+            "bellows.lobe_radius",
+            Unit::M,
+            "Largest radius of the bellows (outer radius of the lobe)",
+            Output::LobeRadius,
+        ),
+    ];
+    for (name, unit, what, role) in outs {
+        io.output(name.to_string(), *unit, what.to_string(), *role);
+    }
+    if s.reservoir.is_some() {
+        io.output(
+            "reservoir.pressure".into(),
+            Unit::Pa,
+            "Absolute gas pressure in the reservoir".into(),
+            Output::ReservoirPressure,
+        );
+    }
+    let energies: &[(&str, &str, Output)] = &[
+        ("energy.strain", "Strain energy of the wall", Output::StrainEnergy),
+        ("energy.kinetic", "Kinetic energy of the wall", Output::KineticEnergy),
+        (
+            "energy.gas",
+            "Gas energy (internal energy of the energy law; for the polytropic law the potential with dU = -p dV), zero at the charge",
+            Output::GasEnergy,
+        ),
+        (
+            "energy.plate_work",
+            "Work done by the top plate on the spring since the start",
+            Output::PlateWork,
+        ),
+        (
+            "energy.dissipated",
+            "Energy that left the system since the start: heat to the ambient, flow losses, contact damping and the integrator's numerical dissipation",
+            Output::Dissipated,
+        ),
+    ];
+    for (name, what, role) in energies {
+        io.output(name.to_string(), Unit::J, what.to_string(), *role);
+    }
+    io
+}
