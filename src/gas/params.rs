@@ -65,6 +65,66 @@ pub struct GasError(pub String);
 impl GasParams {
     /// Checks that every parameter is finite and in its range.
     pub fn validate(&self) -> Result<(), GasError> {
-        todo!()
+        let check = |name: &str, v: f64, ok: bool, range: &str| {
+            if v.is_finite() && ok {
+                Ok(())
+            } else {
+                Err(GasError(format!("{name} = {v} must be finite and {range}")))
+            }
+        };
+        check(
+            "ambient pressure",
+            self.ambient_pressure,
+            self.ambient_pressure > 0.0,
+            "> 0 Pa",
+        )?;
+        check(
+            "ambient temperature",
+            self.ambient_temperature,
+            self.ambient_temperature > 0.0,
+            "> 0 K",
+        )?;
+        check(
+            "inner volume",
+            self.inner_volume,
+            self.inner_volume >= 0.0,
+            ">= 0 m3",
+        )?;
+        match self.law {
+            GasLaw::Polytropic { n } => check("polytropic exponent", n, n > 0.0, "> 0")?,
+            GasLaw::Energy { heat_transfer } => check(
+                "heat transfer coefficient",
+                heat_transfer,
+                heat_transfer >= 0.0,
+                ">= 0 W/K",
+            )?,
+        }
+        if let Some(r) = &self.reservoir {
+            check("reservoir volume", r.volume, r.volume > 0.0, "> 0 m3")?;
+            check(
+                "orifice diameter",
+                r.orifice_diameter,
+                r.orifice_diameter > 0.0,
+                "> 0 m",
+            )?;
+            check("orifice cd", r.cd, r.cd > 0.0 && r.cd <= 1.0, "in (0, 1]")?;
+            check("pipe length", r.pipe_length, r.pipe_length > 0.0, "> 0 m")?;
+            check(
+                "pipe diameter",
+                r.pipe_diameter,
+                r.pipe_diameter > 0.0,
+                "> 0 m",
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The exponent κ of the entropy-like variable `σ = ln p − κ ln ρ` of the model: `n` of
+    /// the polytropic law, γ for the energy law.
+    pub fn kappa(&self) -> f64 {
+        match self.law {
+            GasLaw::Polytropic { n } => n,
+            GasLaw::Energy { .. } => GAMMA_AIR,
+        }
     }
 }
