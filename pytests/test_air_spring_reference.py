@@ -115,3 +115,19 @@ def test_committed_data_matches_the_solver(design):
     assert [c["p_gauge"][0] for c in data["constant_pressure"]] == [3e5, 5e5, 7e5, 4e5]
     assert [(c["spring"], c["n"]) for c in data["closed"]] == [("default", 1.0), ("default", 1.4), ("B", 1.4)]
     assert 40 <= len(data["meridian_design"]["r"]) <= 60
+
+
+def test_toml_copy_matches_the_json():
+    """The Rust tests read the TOML copy of the curves: it must be the JSON's."""
+    import json
+    import tomllib
+
+    data_dir = pathlib.Path(__file__).resolve().parents[1] / "tests" / "data"
+    js = json.loads((data_dir / "air_spring_reference.json").read_text())
+    tm = tomllib.loads((data_dir / "air_spring_reference.toml").read_text())
+    assert tm["design"]["F"] == js["design"]["F"]
+    for key in ("constant_pressure", "closed"):
+        assert len(tm[key]) == len(js[key])
+        for a, b in zip(tm[key], js[key]):
+            for q in ("h", "F", "V", "A_e"):
+                assert a[q] == b[q]

@@ -149,7 +149,9 @@ pub struct TopPlateSection {
     #[serde(default = "TopPlateSection::bead_radius")]
     pub bead_radius: f64,
 }
-defaults!(TopPlateSection { bead_radius: f64 = 0.140 });
+defaults!(TopPlateSection {
+    bead_radius: f64 = 0.140
+});
 
 /// `[bellows]`: the sleeve and its cord–rubber wall.
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
@@ -204,7 +206,9 @@ pub struct SpringSection {
     #[serde(default = "SpringSection::design_height")]
     pub design_height: f64,
 }
-defaults!(SpringSection { design_height: f64 = 0.25 });
+defaults!(SpringSection {
+    design_height: f64 = 0.25
+});
 
 /// `[gas]`.
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
@@ -292,7 +296,9 @@ pub struct ContactSection {
     #[serde(default = "ContactSection::stiffness")]
     pub stiffness: f64,
 }
-defaults!(ContactSection { stiffness: f64 = 1.0e12 });
+defaults!(ContactSection {
+    stiffness: f64 = 1.0e12
+});
 
 /// `[mesh]`.
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
@@ -302,4 +308,6 @@ pub struct MeshSection {
     #[serde(default = "MeshSection::n_meridional")]
     pub n_meridional: i64,
 }
-defaults!(MeshSection { n_meridional: i64 = 60 });
+defaults!(MeshSection {
+    n_meridional: i64 = 60
+});

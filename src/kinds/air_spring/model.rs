@@ -81,19 +81,26 @@ impl Mech {
             .collect();
         let blocks: Vec<[usize; 5]> = (0..n_el)
             .flat_map(|e| {
-                (0..obstacles.len()).map(move |k| {
-                    [2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3, 2 * n_nodes + k]
-                })
+                (0..obstacles.len())
+                    .map(move |k| [2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3, 2 * n_nodes + k])
             })
             .collect();
         let flat4: Vec<usize> = el_dofs.iter().flatten().copied().collect();
         let flat5: Vec<usize> = blocks.iter().flatten().copied().collect();
         let asm = Assembly::new(dofs, &[(4, &flat4), (5, &flat5)], &[]);
-        let w = 2.0 * std::f64::consts::PI * element.radius[0] * element.length / 2.0;
+        // two points per element (more do not change the characteristic: measured with 4, 8)
+        let np = 2usize;
+        let w = 2.0 * std::f64::consts::PI * element.radius[0] * element.length / np as f64;
         let elements = ElementSet::new(vec![element], el_dofs, &asm);
-        let mut contact = ContactPointSet::new(law, obstacles, Connectivity::new(blocks, &asm), [0, 1]);
-        let g = 0.5 / 3f64.sqrt();
-        contact.set_points(vec![[0.5 + g, 0.5 - g], [0.5 - g, 0.5 + g]], w);
+        let mut contact =
+            ContactPointSet::new(law, obstacles, Connectivity::new(blocks, &asm), [0, 1]);
+        let pts: Vec<[f64; 2]> = (0..np)
+            .map(|i| {
+                let x = (i as f64 + 0.5) / np as f64;
+                [1.0 - x, x]
+            })
+            .collect();
+        contact.set_points(pts, w);
         let n_free = asm.dofs.n_free();
         Self {
             asm,
@@ -155,6 +162,8 @@ pub struct AirSpring {
     /// Committed reaction `top.fz` [N], plate height [m].
     force: f64,
     height: f64,
+    /// The fixed gauge pressure of the last constant-pressure equilibrium [Pa].
+    pressure_now: f64,
     strain: f64,
     kinetic: f64,
     plate_work: f64,
@@ -268,15 +277,20 @@ impl AirSpring {
             AxisymObstacle::Piston {
                 contour: contour.clone(),
             },
-            AxisymObstacle::Plate {
-                radius: 10.0 * rb,
-            },
+            AxisymObstacle::Plate { radius: 10.0 * rb },
         ];
         let mut constrained = vec![false; n_full];
         for i in [0, 1, 2 * n_el, 2 * n_el + 1, 2 * n_nodes, 2 * n_nodes + 1] {
             constrained[i] = true;
         }
-        let main = Mech::new(n_el, element.clone(), &constrained, law, obstacles.clone(), length);
+        let main = Mech::new(
+            n_el,
+            element.clone(),
+            &constrained,
+            law,
+            obstacles.clone(),
+            length,
+        );
         constrained[1] = false;
         constrained[2 * n_nodes + 1] = false;
         let ext = Mech::new(n_el, element, &constrained, law, obstacles, length);
@@ -332,6 +346,7 @@ impl AirSpring {
             },
             force: 0.0,
             height: hd,
+            pressure_now: 0.0,
             strain: 0.0,
             kinetic: 0.0,
             plate_work: 0.0,
@@ -350,10 +365,46 @@ impl AirSpring {
         Ok(model)
     }
 
-    /// The design state under the fixed gauge pressure `pd` [Pa]: pseudo-transient
-    /// continuation (`(K + c M) Δq = −r`, `c` shrinking with the residual, switched
-    /// evolution relaxation) over rising pressure levels from the start shape.
+    /// The design state under the fixed gauge pressure `pd` [Pa] from the start shape.
     fn solve_design(&mut self, pd: f64) -> Result<(), String> {
+        let h = self.design_height;
+        self.continuation((h, 0.0), (h, pd), false)
+    }
+
+    /// The static equilibrium with the plate at height `h` [m] under the fixed gauge pressure
+    /// `p_gauge` [Pa] (no gas law: a constant-pressure state, as on a test rig with a large
+    /// supply), reached from the committed shape; it becomes the committed shape. Returns
+    /// the force on the plate [N] and the bag volume (membrane plus inner) [m³]. For tools
+    /// (the effective-area table of level 3) and tests, before a simulation starts.
+    pub fn equilibrium_at(&mut self, h: f64, p_gauge: f64) -> Result<(f64, f64), String> {
+        let from = (self.q[1], self.pressure_now);
+        self.continuation(from, (h, p_gauge), false)?;
+        let zeros = vec![0.0; self.n_free()];
+        let mut r = vec![0.0; self.n_free()];
+        let mut qf = vec![0.0; self.n_free()];
+        self.main.asm.dofs.restrict(&self.q, &mut qf);
+        self.evaluate(
+            0.0,
+            &qf,
+            &zeros,
+            &zeros,
+            Pressure::Fixed(p_gauge),
+            &mut r,
+            None,
+        )
+        .map_err(|e| e.to_string())?;
+        let n_nodes = self.n_el + 1;
+        let force = -(self.work.f[1] + self.work.f[2 * n_nodes + 1]);
+        let vm = volume_gradient(self.n_el, &self.q, &mut self.work.grad);
+        Ok((force, vm + self.gas.params().inner_volume))
+    }
+
+    /// Pseudo-transient continuation (`(K + c M) Δq = −r`, `c` shrinking with the residual:
+    /// switched evolution relaxation) from plate height and fixed gauge pressure `from` to
+    /// `to` [m, Pa] in adaptive levels, starting from the committed shape; with `gas` the
+    /// pressure is the gas's at rest instead (the charged spring moved to another height).
+    fn continuation(&mut self, from: (f64, f64), to: (f64, f64), gas: bool) -> Result<(), String> {
+        let pd = to.1.abs().max(from.1.abs()).max(1.0);
         let n = self.main.asm.dofs.n_free();
         let mut ws = crate::solver::Workspace::new(&*self, SolverKind::Auto)
             .map_err(|e| format!("design state: {e}"))?;
@@ -361,7 +412,11 @@ impl AirSpring {
         self.main.asm.dofs.restrict(&self.q, &mut x);
         let zeros = vec![0.0; n];
         let mut level = 0.0f64;
-        let mut step = 0.1f64;
+        // the plate moves at most an element length per level: the path stays close to
+        // equilibrium and no element is pushed through a fold
+        let ell = self.main.scales[0] / self.n_el as f64;
+        let max_step = (ell / (to.0 - from.0).abs().max(1e-300)).min(0.25);
+        let mut step = max_step.min(0.1);
         let mut last_err = String::new();
         // pseudo-time coefficient: starts as a strong relaxation (1e6/L² per unit mass)
         let c_start = 1e6 / (self.main.scales[0] * self.main.scales[0]);
@@ -380,12 +435,19 @@ impl AirSpring {
                     damping: 0.0,
                     stiffness: 1.0,
                 };
+                let h = from.0 + target * (to.0 - from.0);
+                self.top_z = InputSignal::constant(h);
+                self.q[1] = h;
                 let res = self.evaluate(
                     0.0,
                     &x,
                     &zeros,
                     &zeros,
-                    Pressure::Fixed(target * pd),
+                    if gas {
+                        Pressure::Static
+                    } else {
+                        Pressure::Fixed(from.1 + target * (to.1 - from.1))
+                    },
                     &mut ws.r,
                     Some((coeffs, &mut ws.jac)),
                 );
@@ -423,7 +485,9 @@ impl AirSpring {
                 }
                 r_old = r_norm;
                 if std::env::var("AIRSPRING_DEBUG").is_ok() {
-                    eprintln!("level {target:.3} |r| {r_norm:.3e} inc {inc:.3e} scale {scale:.2e} c {c:.3e}");
+                    eprintln!(
+                        "level {target:.3} |r| {r_norm:.3e} inc {inc:.3e} scale {scale:.2e} c {c:.3e}"
+                    );
                 }
                 if inc < 1e-11 && scale == 1.0 && r_norm < 1e-9 * r_scale {
                     ok = true;
@@ -434,17 +498,36 @@ impl AirSpring {
                 }
             }
             if ok {
+                // a membrane without bending can fold: an element squeezed to a fraction of
+                // its length is a spurious equilibrium, not the rolling lobe
+                let mut full = std::mem::take(&mut self.work.q);
+                self.expand(&x, &mut full);
+                let squeezed = (0..self.n_el).any(|e| {
+                    let w = &full[2 * e..2 * e + 4];
+                    ((w[2] - w[0]).powi(2) + (w[3] - w[1]).powi(2)).sqrt() < 0.25 * ell
+                });
+                self.work.q = full;
+                if squeezed {
+                    ok = false;
+                    last_err = "an element folded".into();
+                }
+            }
+            if ok {
                 c_level = c;
                 level = target;
-                step = (step * 1.5).min(0.25);
+                step = (step * 1.5).min(max_step);
             } else {
                 x = saved;
                 step *= 0.5;
                 c_level = c_start;
                 if step < 1e-3 {
                     return Err(format!(
-                        "the sleeve could not be mounted at {SPRING_DESIGN_HEIGHT} under {GAS_PRESSURE_DESIGN}: no equilibrium at {:.0} % of the pressure ({last_err}); check the geometry ({TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {BELLOWS_SLEEVE_RADIUS}, {BELLOWS_SLEEVE_LENGTH})",
-                        100.0 * target
+                        "no static equilibrium of the sleeve from height {:.4} m, gauge pressure {:.4e} Pa to {:.4} m, {:.4e} Pa (reached {:.0} % of the way: {last_err}); check the geometry ({TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {BELLOWS_SLEEVE_RADIUS}, {BELLOWS_SLEEVE_LENGTH}, {SPRING_DESIGN_HEIGHT}) and {GAS_PRESSURE_DESIGN}",
+                        from.0,
+                        from.1,
+                        to.0,
+                        to.1,
+                        100.0 * level
                     ));
                 }
             }
@@ -452,6 +535,16 @@ impl AirSpring {
         let mut q = self.q.clone();
         self.expand(&x, &mut q);
         self.q = q;
+        self.height = to.0;
+        self.pressure_now = if gas {
+            let vm = volume_gradient(self.n_el, &self.q, &mut self.work.grad);
+            self.gas
+                .static_pressure(vm)
+                .map_or(0.0, |(p, _)| p - self.ambient)
+        } else {
+            to.1
+        };
+        self.top_z = InputSignal::constant(to.0);
         Ok(())
     }
 
@@ -611,7 +704,11 @@ impl AirSpring {
         self.main.asm.dofs.restrict(&self.work.f, r);
         check_finite(
             r,
-            if check { jac.as_ref().map(|(_, v)| &**v) } else { None },
+            if check {
+                jac.as_ref().map(|(_, v)| &**v)
+            } else {
+                None
+            },
         )
     }
 
@@ -659,14 +756,20 @@ impl AirSpring {
             e.dp_dv,
             Some((coeffs, &mut vals)),
         );
+        // S = K_hh − K_hf K_ff⁻¹ K_fh from the inverse of the matrix with ε added on both plate
+        // coordinates (the plate's own row is empty out of contact): S = Y_hh⁻¹ − ε I.
+        let eps = 1e6;
+        let dofs = &self.ext.asm.dofs;
+        let hz = [dofs.free_index(1)?, dofs.free_index(2 * n_nodes + 1)?];
+        for &h in &hz {
+            vals[pattern.position(h, h)?] += eps;
+        }
         let solver = self.ext_solver.as_mut()?;
         let ok = solver.factor(&pattern, &vals).is_ok();
         self.ext_vals = vals;
         if !ok {
             return None;
         }
-        let dofs = &self.ext.asm.dofs;
-        let hz = [dofs.free_index(1)?, dofs.free_index(2 * n_nodes + 1)?];
         let n = dofs.n_free();
         let mut y = [vec![0.0; n], vec![0.0; n]];
         for (j, col) in y.iter_mut().enumerate() {
@@ -680,14 +783,15 @@ impl AirSpring {
         }
         // S d with d = (1, 1): S = Y_hh⁻¹
         let s = [
-            [yhh[1][1] / det, -yhh[0][1] / det],
-            [-yhh[1][0] / det, yhh[0][0] / det],
+            [yhh[1][1] / det - eps, -yhh[0][1] / det],
+            [-yhh[1][0] / det, yhh[0][0] / det - eps],
         ];
         let sd = [s[0][0] + s[0][1], s[1][0] + s[1][1]];
         let dfdh = -(sd[0] + sd[1]);
         let mut dvdh = 0.0;
         for (i, &full) in dofs.free_to_full().iter().enumerate() {
-            dvdh += self.work.grad[full] * (y[0][i] * sd[0] + y[1][i] * sd[1]);
+            // δx = Y (S + ε I) d
+            dvdh += self.work.grad[full] * (y[0][i] * (sd[0] + eps) + y[1][i] * (sd[1] + eps));
         }
         let c = Condensed { dfdh, dvdh };
         *self.cache.borrow_mut() = Some((self.commits, c));
@@ -735,7 +839,10 @@ impl AirSpring {
         self.evaluate_filled(Pressure::Step(0.0), &mut r, None)?;
         let n_nodes = self.n_el + 1;
         self.strain = self.main.elements.strain_energy(&self.work.q, None);
-        self.kinetic = self.main.elements.kinetic_energy(&self.work.q, &self.work.v, None);
+        self.kinetic = self
+            .main
+            .elements
+            .kinetic_energy(&self.work.q, &self.work.v, None);
         Ok(-(self.work.f[1] + self.work.f[2 * n_nodes + 1]))
     }
 
@@ -846,8 +953,19 @@ impl MechanicalSystem for AirSpring {
 }
 
 impl Model for AirSpring {
+    /// Before the first accepted state, a new `top.z` moves the charged spring there
+    /// quasi-statically with the gas at rest (the static solve of the initialization then
+    /// starts in equilibrium).
     fn set_input(&mut self, input: usize, value: f64) {
         match self.inputs[input] {
+            Input::TopZ if !self.initialized && value != self.height && value.is_finite() => {
+                let from = (self.height, self.pressure_now);
+                if self.continuation(from, (value, 0.0), true).is_err() {
+                    // left at the last equilibrium; the static solve of the initialization
+                    // tries from there
+                    self.top_z.set(value, self.t);
+                }
+            }
             Input::TopZ => self.top_z.set(value, self.t),
             Input::TopVz => self.top_vz.set(value, self.t),
         }

@@ -134,18 +134,17 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
             crate::scene::params::describe(GAS_MODELS)
         ));
     }
-    if !FIDELITIES.iter().any(|(_, c)| *c as i64 == s.model.fidelity) {
+    if !FIDELITIES
+        .iter()
+        .any(|(_, c)| *c as i64 == s.model.fidelity)
+    {
         errs.push(format!(
             "model.fidelity = {}: the levels built are {} (level 1, the seed-004 shell, and level 3, the effective-area table, are not built yet)",
             s.model.fidelity,
             crate::scene::params::describe(FIDELITIES)
         ));
     }
-    let parts = [
-        s.reservoir.is_some(),
-        s.orifice.is_some(),
-        s.pipe.is_some(),
-    ];
+    let parts = [s.reservoir.is_some(), s.orifice.is_some(), s.pipe.is_some()];
     if parts.iter().any(|&p| p) && !parts.iter().all(|&p| p) {
         errs.push(
             "reservoir, orifice, pipe: a reservoir needs all three tables ([reservoir] volume, [orifice] diameter, [pipe] length and diameter)".into(),
@@ -155,7 +154,8 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
         if c.len() < 2 {
             errs.push("piston.contour: give at least two points [r, z]".into());
         } else if c.windows(2).any(|w| w[1][1] <= w[0][1])
-            || c.iter().any(|p| !(p[0] > 0.0 && p[0].is_finite() && p[1].is_finite()))
+            || c.iter()
+                .any(|p| !(p[0] > 0.0 && p[0].is_finite() && p[1].is_finite()))
         {
             errs.push(
                 "piston.contour: points [r, z] with r > 0 and z strictly increasing from the base up"
@@ -424,7 +424,12 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
     )
     .depending_on(&["top.z", "top.vz"]);
     let outs: &[(&str, Unit, &str, Output)] = &[
-        ("gas.pressure", Unit::Pa, "Absolute gas pressure in the bag", Output::Pressure),
+        (
+            "gas.pressure",
+            Unit::Pa,
+            "Absolute gas pressure in the bag",
+            Output::Pressure,
+        ),
         (
             "gas.pressure_gauge",
             Unit::Pa,
@@ -437,7 +442,12 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
             "Gas volume of the bag (membrane volume plus gas.inner_volume)",
             Output::Volume,
         ),
-        ("gas.temperature", Unit::K, "Gas temperature in the bag", Output::Temperature),
+        (
+            "gas.temperature",
+            Unit::K,
+            "Gas temperature in the bag",
+            Output::Temperature,
+        ),
         ("gas.mass", Unit::Kg, "Gas mass in the bag", Output::Mass),
         (
             "spring.height",
@@ -482,8 +492,16 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         );
     }
     let energies: &[(&str, &str, Output)] = &[
-        ("energy.strain", "Strain energy of the wall", Output::StrainEnergy),
-        ("energy.kinetic", "Kinetic energy of the wall", Output::KineticEnergy),
+        (
+            "energy.strain",
+            "Strain energy of the wall",
+            Output::StrainEnergy,
+        ),
+        (
+            "energy.kinetic",
+            "Kinetic energy of the wall",
+            Output::KineticEnergy,
+        ),
         (
             "energy.gas",
             "Gas energy (internal energy of the energy law; for the polytropic law the potential with dU = -p dV), zero at the charge",
