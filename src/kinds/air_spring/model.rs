@@ -1074,6 +1074,7 @@ impl Model for AirSpring {
         self.main.contact.restore(r)?;
         self.gas.restore(r).map_err(e)?;
         self.commits += 1;
+        let _ = self.compute_condensed();
         Ok(())
     }
 }

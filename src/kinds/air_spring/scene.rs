@@ -488,7 +488,7 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         "Axial force of the spring on the top plate (positive pushes it up)".into(),
         Output::TopFz,
     )
-    .depending_on(&["top.z", "top.vz"]);
+    .depending_on(&["top.z"]);
     let outs: &[(&str, Unit, &str, Output)] = &[
         (
             "gas.pressure",
