@@ -28,7 +28,7 @@
 
 use super::AirSpringScene;
 use super::scene::{Input, Output, io, names::*, piston_contour};
-use super::table::gas_params;
+use super::table::{gas_error, gas_params};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::ContactPointSet;
 use crate::contact::circle_friction::ContactLaw;
@@ -165,6 +165,10 @@ pub struct AirSpring {
     height: f64,
     /// The fixed gauge pressure of the last constant-pressure equilibrium [Pa].
     pressure_now: f64,
+    /// Mass of the wall per reference area [kg/m²].
+    mass_per_area: f64,
+    /// Bag volume at the charge [m³].
+    v_charge: f64,
     strain: f64,
     kinetic: f64,
     plate_work: f64,
@@ -280,7 +284,9 @@ impl AirSpring {
             n_el,
         )
         .map_err(|e| {
-            format!("{e} ({BELLOWS_SLEEVE_LENGTH}, {SPRING_DESIGN_HEIGHT}, {PISTON_HEIGHT})")
+            format!(
+                "{e} ({BELLOWS_SLEEVE_LENGTH}, {TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {SPRING_DESIGN_HEIGHT}, {PISTON_HEIGHT})"
+            )
         })?;
         let mut q = vec![0.0; n_full];
         for (k, pt) in start.iter().enumerate() {
@@ -302,7 +308,7 @@ impl AirSpring {
             design_height: hd,
             ambient: gp.ambient_pressure,
             // charged after the design solve
-            gas: Gas::new(gp, pd, 1.0).map_err(|e| e.to_string())?,
+            gas: Gas::new(gp, pd, 1.0).map_err(|e| gas_error(e, &gp))?,
             inputs: io.inputs,
             outputs: io.outputs,
             top_z: InputSignal::constant(hd),
@@ -323,6 +329,8 @@ impl AirSpring {
             force: 0.0,
             height: hd,
             pressure_now: 0.0,
+            mass_per_area: p.real(BELLOWS_DENSITY) * p.real(BELLOWS_THICKNESS),
+            v_charge: 0.0,
             strain: 0.0,
             kinetic: 0.0,
             plate_work: 0.0,
@@ -333,11 +341,15 @@ impl AirSpring {
         };
         model.solve_design(pd)?;
         let vd = volume_gradient(n_el, &model.q, &mut model.work.grad);
-        model.gas.charge(pd, vd).map_err(|e| e.to_string())?;
+        model
+            .gas
+            .charge(pd, vd)
+            .map_err(|e| gas_error(e, &gp))?;
+        model.v_charge = model.gas.committed().volume;
         let zeros = vec![0.0; model.n_free()];
         model.force = model
             .reaction(&zeros)
-            .map_err(|e| format!("design state: {e}"))?;
+            .map_err(|e| gas_error(format!("design state: {e}"), &gp))?;
         Ok(model)
     }
 
@@ -395,7 +407,10 @@ impl AirSpring {
         let mut step = max_step.min(0.1);
         let mut last_err = String::new();
         // pseudo-time coefficient: starts as a strong relaxation (1e6/L² per unit mass)
-        let c_start = 1e6 / (self.main.scales[0] * self.main.scales[0]);
+        // (scaled with the wall's mass per area against 4.4 kg/m², the reference spring's, so
+        // that the relaxation does not depend on the density)
+        let c_start = 1e6 / (self.main.scales[0] * self.main.scales[0]) * 4.4
+            / self.mass_per_area.max(1e-300);
         let mut c_level = c_start;
         // residual scale: the pressure force on an element
         let r_scale = pd * self.main.scales[0] * self.main.scales[0] / self.n_el as f64;
@@ -498,7 +513,7 @@ impl AirSpring {
                 c_level = c_start;
                 if step < 1e-3 {
                     return Err(format!(
-                        "no static equilibrium of the sleeve from height {:.4} m, gauge pressure {:.4e} Pa to {:.4} m, {:.4e} Pa (reached {:.0} % of the way: {last_err}); check the geometry ({TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {BELLOWS_SLEEVE_RADIUS}, {BELLOWS_SLEEVE_LENGTH}, {SPRING_DESIGN_HEIGHT}) and {GAS_PRESSURE_DESIGN}",
+                        "no static equilibrium of the sleeve from height {:.4} m, gauge pressure {:.4e} Pa to {:.4} m, {:.4e} Pa (reached {:.0} % of the way: {last_err}); check the geometry ({TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {PISTON_HEIGHT}, {BELLOWS_SLEEVE_RADIUS}, {BELLOWS_SLEEVE_LENGTH}, {SPRING_DESIGN_HEIGHT}), the wall ({BELLOWS_CORD_STIFFNESS}, {BELLOWS_N_PLIES}, {BELLOWS_CORD_ANGLE}, {BELLOWS_MATRIX_STIFFNESS}, {BELLOWS_TENSION_ONLY}, {BELLOWS_DENSITY}, {BELLOWS_THICKNESS}), {CONTACT_STIFFNESS}, {MESH_N_MERIDIONAL} and {GAS_PRESSURE_DESIGN}",
                         from.0,
                         from.1,
                         to.0,
@@ -826,7 +841,7 @@ impl AirSpring {
         let e = self.gas.committed();
         match o {
             Output::TopFz => {
-                let dz = self.top_z.at(self.t) - self.height;
+                let dz = prescribed(&self.top_z, &self.top_vz, self.t).0 - self.height;
                 if dz == 0.0 {
                     self.force
                 } else {
@@ -852,7 +867,9 @@ impl AirSpring {
             Output::ReservoirPressure => e.reservoir_pressure,
             Output::StrainEnergy => self.strain,
             Output::KineticEnergy => self.kinetic,
-            Output::GasEnergy => e.internal_energy,
+            Output::GasEnergy => {
+                e.internal_energy + self.gas.params().ambient_pressure * (e.volume - self.v_charge)
+            }
             Output::PlateWork => self.plate_work,
             Output::Dissipated => e.heat_out + e.loss_work + self.contact_loss,
         }

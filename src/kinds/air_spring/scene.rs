@@ -184,19 +184,43 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
                     ));
                 }
             }
-            if t.height.windows(2).any(|w| !(w[1] > w[0]))
-                || t.height.iter().chain(&t.effective_area).chain(&t.volume).any(|x| !x.is_finite())
-            {
-                errs.push("table.height: strictly increasing finite heights, finite areas and volumes".into());
+            if t.height.windows(2).any(|w| !(w[1] > w[0])) || t.height.iter().any(|x| !x.is_finite()) {
+                errs.push("table.height: strictly increasing finite heights [m]".into());
             }
-            if t.effective_area.iter().chain(&t.volume).any(|&x| x <= 0.0) {
-                errs.push("table.effective_area, table.volume: must be positive".into());
+            for (k, v) in [("effective_area", &t.effective_area), ("volume", &t.volume)] {
+                if v.iter().any(|&x| !(x > 0.0 && x.is_finite())) {
+                    errs.push(format!("table.{k}: positive finite values"));
+                }
+            }
+            if t.volume_compliance.iter().any(|&x| !x.is_finite()) {
+                errs.push("table.volume_compliance: finite values [m3/Pa]".into());
             }
             if !(t.reference_pressure > 0.0 && t.reference_pressure.is_finite()) {
                 errs.push("table.reference_pressure: a positive gauge pressure [Pa]".into());
             }
         }
         (None, false) => {}
+    }
+    if is_table(s) {
+        // the membrane tables of a table scene are its record, not parameters: still sane
+        let b = &s.bellows;
+        for (k, v) in [
+            ("piston.radius", s.piston.radius),
+            ("piston.height", s.piston.height),
+            ("top_plate.bead_radius", s.top_plate.bead_radius),
+            ("bellows.sleeve_radius", b.sleeve_radius),
+            ("bellows.sleeve_length", b.sleeve_length),
+            ("bellows.cord_angle", b.cord_angle),
+            ("bellows.cord_stiffness", b.cord_stiffness + 1.0),
+            ("bellows.matrix_stiffness", b.matrix_stiffness),
+            ("bellows.thickness", b.thickness),
+            ("bellows.density", b.density),
+            ("contact.stiffness", s.contact.stiffness),
+        ] {
+            if !(v > 0.0 && v.is_finite()) {
+                errs.push(format!("{k}: must be a positive finite number"));
+            }
+        }
     }
     if let Some(c) = &s.piston.contour {
         if c.len() < 2 {
@@ -573,7 +597,7 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         ),
         (
             "energy.gas",
-            "Gas energy (internal energy of the energy law; for the polytropic law the potential with dU = -p dV), zero at the charge",
+            "Gas energy relative to the ambient, U + p_a (V - V_charge) (U: internal energy m c_v T of the energy law; for the polytropic law the potential with dU = -p dV, zero at the charge): without heat and flow losses it changes by -(p - p_a) dV, the work of the gauge pressure",
             Output::GasEnergy,
         ),
         (
@@ -583,7 +607,7 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         ),
         (
             "energy.dissipated",
-            "Energy that left the system since the start: heat to the ambient, flow losses, contact damping and the integrator's numerical dissipation",
+            "Energy that left the system since the start: heat to the ambient, flow losses and contact damping (the integrator's numerical dissipation is the rest of the balance)",
             Output::Dissipated,
         ),
     ];

@@ -117,6 +117,31 @@ pub(super) fn gas_params(p: &ParamValues, scene: &AirSpringScene) -> GasParams {
     }
 }
 
+/// A gas error with the parameters the gas follows from (the component does not know the
+/// scene's names).
+pub(super) fn gas_error(e: impl std::fmt::Display, p: &GasParams) -> String {
+    let mut keys = vec![
+        GAS_PRESSURE_DESIGN,
+        SPRING_DESIGN_HEIGHT,
+        GAS_MODEL,
+        GAS_POLYTROPIC_EXPONENT,
+        GAS_HEAT_TRANSFER,
+        GAS_INNER_VOLUME,
+        AMBIENT_PRESSURE,
+        AMBIENT_TEMPERATURE,
+    ];
+    if p.reservoir.is_some() {
+        keys.extend([
+            RESERVOIR_VOLUME,
+            ORIFICE_DIAMETER,
+            ORIFICE_CD,
+            PIPE_LENGTH,
+            PIPE_DIAMETER,
+        ]);
+    }
+    format!("{e} (the gas follows from {})", keys.join(", "))
+}
+
 /// The state of the table model at one height and pressure.
 #[derive(Clone, Copy, Debug, Default)]
 struct Point {
@@ -148,6 +173,8 @@ pub struct AirSpringTable {
     height: f64,
     point: Point,
     plate_work: f64,
+    /// Bag volume at the charge [m³].
+    v_charge: f64,
     pattern: CscPattern,
 }
 
@@ -173,7 +200,8 @@ impl AirSpringTable {
             volume: Hermite::new(&t.height, &t.volume),
             compliance: Hermite::new(&t.height, &t.volume_compliance),
             p_ref: t.reference_pressure,
-            gas: Gas::new(gas_params(p, scene), pd, 1.0).map_err(|e| e.to_string())?,
+            gas: Gas::new(gas_params(p, scene), pd, 1.0)
+                .map_err(|e| gas_error(e, &gas_params(p, scene)))?,
             inputs: vec![],
             outputs: vec![],
             top_z: InputSignal::constant(hd),
@@ -183,6 +211,7 @@ impl AirSpringTable {
             height: hd,
             point: Point::default(),
             plate_work: 0.0,
+            v_charge: 0.0,
             pattern: CscPattern::from_entries(0, vec![]),
         };
         let io = io(scene);
@@ -191,10 +220,13 @@ impl AirSpringTable {
         let vd = m.table_volume(hd, pd);
         if !(vd > 0.0) {
             return Err(format!(
-                "table: the bag volume at {SPRING_DESIGN_HEIGHT} = {hd} m and {GAS_PRESSURE_DESIGN} = {pd} Pa is {vd} m3"
+                "table.volume, table.volume_compliance, table.reference_pressure: the bag volume at {SPRING_DESIGN_HEIGHT} = {hd} m and {GAS_PRESSURE_DESIGN} = {pd} Pa is {vd} m3"
             ));
         }
-        m.gas.charge(pd, vd).map_err(|e| e.to_string())?;
+        m.gas
+            .charge(pd, vd)
+            .map_err(|e| gas_error(e, m.gas.params()))?;
+        m.v_charge = m.gas.committed().volume;
         m.point = m
             .solve(hd, None)
             .map_err(|e| format!("table at the design state: {e}"))?;
@@ -262,7 +294,8 @@ impl AirSpringTable {
         let e = self.gas.committed();
         match o {
             Output::TopFz => {
-                self.point.force + self.point.dfdz * (self.top_z.at(self.t) - self.height)
+                let z = prescribed(&self.top_z, &self.top_vz, self.t).0;
+                self.point.force + self.point.dfdz * (z - self.height)
             }
             Output::Pressure => e.p_abs,
             Output::PressureGauge => e.p_gauge,
@@ -274,7 +307,9 @@ impl AirSpringTable {
             Output::VolumetricArea => self.point.dvdz,
             Output::Stiffness => -self.point.dfdz,
             Output::ReservoirPressure => e.reservoir_pressure,
-            Output::GasEnergy => e.internal_energy,
+            Output::GasEnergy => {
+                e.internal_energy + self.gas.params().ambient_pressure * (e.volume - self.v_charge)
+            }
             Output::PlateWork => self.plate_work,
             Output::Dissipated => e.heat_out + e.loss_work,
             Output::LobeRadius | Output::StrainEnergy | Output::KineticEnergy => f64::NAN,
