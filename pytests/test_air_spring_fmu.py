@@ -210,7 +210,7 @@ def test_directional_derivative_is_the_static_stiffness(fmus, z):
     finally:
         s.close()
     assert fd < 0.0  # raising the plate lowers the force
-    assert abs(d - fd) < 1e-4 * abs(fd), (d, fd)
+    assert abs(d - fd) < 1e-6 * abs(fd), (d, fd)  # measured 4e-8 (0.25 m), 5e-9 (0.27 m)
     assert k == -d
 
 
