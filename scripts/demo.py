@@ -8,6 +8,8 @@
    curves (scripts/plot_right_angle.py).
 5. Seed-004 shell: the strip rolled up by an end moment against the exact arc, and the plate under
    a pressure step (centre deflection over time against the static Navier value).
+6. Air spring (issue 11, level 2): design state against the shooting reference, and a short MuJoCo
+   quarter car (scripts/air_spring_quarter_car.py) hit by a road bump.
 Plots go to build/demo/.
 """
 import pathlib
@@ -132,3 +134,29 @@ ax.set_title("Seed-004 shell: simply supported steel plate, 1 kPa pressure step"
 fig.tight_layout()
 fig.savefig(OUT / "plate_step.png", dpi=120)
 print(f"plots: {OUT / 'plate_step.png'}")
+
+# --- 6. Air spring ----------------------------------------------------------------------------
+import json  # noqa: E402
+
+import air_spring_quarter_car as quarter_car  # noqa: E402
+
+print("\nAir spring, level 2 (scenes/air_spring_axisym.toml): rolling-lobe membrane, 5 bar gauge at 0.25 m")
+ref = json.loads((ROOT / "tests" / "data" / "air_spring_reference.json").read_text())["design"]
+r = fmpy.simulate_fmu(str(FMUS / "air_spring_axisym.fmu"), stop_time=1e-3, output_interval=1e-3,
+                      output=["top.fz", "gas.volume", "spring.effective_area", "spring.stiffness"])
+print(f"  design state: F = {r['top.fz'][0]:.1f} N (shooting reference {ref['F']:.1f} N), "
+      f"V = {1e3 * r['gas.volume'][0]:.4f} L ({1e3 * ref['V']:.4f} L), "
+      f"A_e = {r['spring.effective_area'][0]:.5f} m2 ({ref['A_e']:.5f} m2), k = {r['spring.stiffness'][0]:.0f} N/m")
+s_bump, wall, _, car = quarter_car.simulate(FMUS / "air_spring_axisym.fmu", "bump", implicit=False, t_end=1.0)
+print(f"  quarter car ({car.sprung:.0f} kg on the spring, {quarter_car.UNSPRUNG:.0f} kg axle, tyre "
+      f"{quarter_car.K_TYRE:.0e} N/m) over a 5 cm bump at 10 m/s: body rises {1e3 * s_bump[:, 1].max():.1f} mm, "
+      f"peak body acceleration {np.abs(s_bump[:, 3]).max():.2f} m/s2, {s_bump[-1, 0] / wall:.1f}x real time")
+fig, ax = plt.subplots(figsize=(7, 4))
+ax.plot(s_bump[:, 0], 1e3 * s_bump[:, 5], "k--", label="road")
+ax.plot(s_bump[:, 0], 1e3 * s_bump[:, 1], label="body")
+ax.plot(s_bump[:, 0], 1e3 * s_bump[:, 2], label="axle")
+ax.set_xlabel("time [s]"); ax.set_ylabel("displacement [mm]"); ax.legend()
+ax.set_title("Quarter car in MuJoCo with the air-spring FMU: road bump")
+fig.tight_layout()
+fig.savefig(OUT / "air_spring_bump.png", dpi=120)
+print(f"  plot: {OUT / 'air_spring_bump.png'}")
