@@ -46,6 +46,27 @@ enum Cmd {
         /// Scene files.
         scenes: Vec<PathBuf>,
     },
+    /// Generate a level-3 air-spring scene (effective-area table with the gas law) from a
+    /// membrane-level air-spring scene: constant-pressure equilibria over the heights.
+    AirSpringTable {
+        /// Membrane-level air-spring scene (TOML).
+        scene: PathBuf,
+        /// Output scene file.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Heights MIN:MAX:COUNT [m] of the top plate above the piston base.
+        #[arg(long, default_value = "0.18:0.32:29")]
+        heights: String,
+        /// Reference gauge pressure [Pa] (default: gas.pressure_design).
+        #[arg(long)]
+        pressure: Option<f64>,
+        /// Model name of the new scene (default: the old one with `_table`).
+        #[arg(long)]
+        name: Option<String>,
+        /// Elements along the sleeve for the membrane solves (default: the scene's mesh).
+        #[arg(long)]
+        elements: Option<usize>,
+    },
 }
 
 fn run(cli: Cli) -> Result<(), String> {
@@ -74,6 +95,44 @@ fn run(cli: Cli) -> Result<(), String> {
                     None => print!("{xml}"),
                 }
             }
+        }
+        Cmd::AirSpringTable {
+            scene,
+            output,
+            heights,
+            pressure,
+            name,
+            elements,
+        } => {
+            let parts: Vec<&str> = heights.split(':').collect();
+            let bad = || format!("--heights {heights}: give MIN:MAX:COUNT, e.g. 0.18:0.32:29");
+            if parts.len() != 3 {
+                return Err(bad());
+            }
+            let lo: f64 = parts[0].parse().map_err(|_| bad())?;
+            let hi: f64 = parts[1].parse().map_err(|_| bad())?;
+            let n: usize = parts[2].parse().map_err(|_| bad())?;
+            if n < 4 || !(hi > lo) {
+                return Err(bad());
+            }
+            let hs: Vec<f64> = (0..n)
+                .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
+                .collect();
+            let text = std::fs::read_to_string(&scene)
+                .map_err(|e| format!("cannot read {}: {e}", scene.display()))?;
+            let sc = Scene::from_toml(&text).map_err(|e| e.0)?;
+            let name = name.unwrap_or_else(|| format!("{}_table", sc.model_name()));
+            let out = flexfmu::kinds::air_spring::table::generate(
+                &text,
+                &hs,
+                pressure,
+                elements,
+                &name,
+                &mut |done, total| eprint!("\rheight {done}/{total}"),
+            )?;
+            eprintln!();
+            std::fs::write(&output, out).map_err(|e| format!("{}: {e}", output.display()))?;
+            println!("wrote {}", output.display());
         }
         Cmd::Check { scenes } => {
             for path in scenes {

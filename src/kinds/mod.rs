@@ -8,13 +8,35 @@
 
 /// Declares a kind's registry entry `$kind` (implementing [`BodyKind`]) and implements
 /// [`KindScene`] for its tables `$tables`, from the kind module's `scene::{check, params, io}`
-/// and `$model::build(&tables, &params)`.
+/// and `$model::build(&tables, &params)` (or, for a kind with several model types, an
+/// expression `build: |tables, params| ...` giving the boxed model).
 macro_rules! body_kind {
     (
         $(#[$doc:meta])*
         $kind:ident {
             tables: $tables:ty,
             model: $model:ty,
+            name: $name:literal,
+            summary: $summary:literal,
+            legacy: |$t:ident| $legacy:expr $(,)?
+        }
+    ) => {
+        body_kind! {
+            $(#[$doc])*
+            $kind {
+                tables: $tables,
+                build: |s, p| Ok(Box::new(<$model>::build(s, p)?)),
+                name: $name,
+                summary: $summary,
+                legacy: |$t| $legacy,
+            }
+        }
+    };
+    (
+        $(#[$doc:meta])*
+        $kind:ident {
+            tables: $tables:ty,
+            build: |$s:ident, $p:ident| $build:expr,
             name: $name:literal,
             summary: $summary:literal,
             legacy: |$t:ident| $legacy:expr $(,)?
@@ -67,7 +89,8 @@ macro_rules! body_kind {
                 &self,
                 params: &$crate::scene::ParamValues,
             ) -> Result<Box<dyn $crate::model::Model>, String> {
-                Ok(Box::new(<$model>::build(self, params)?))
+                let ($s, $p) = (self, params);
+                $build
             }
 
             fn as_any(&self) -> &dyn std::any::Any {

@@ -19,6 +19,7 @@
 
 pub mod model;
 pub mod scene;
+pub mod table;
 
 use crate::scene::tables::{ExperimentSection, FmuSection, SolverSection};
 use model::AirSpring;
@@ -28,7 +29,11 @@ body_kind! {
     /// The kind (registry entry).
     AirSpringKind {
         tables: AirSpringScene,
-        model: AirSpring,
+        build: |s, p| if scene::is_table(s) {
+            Ok(Box::new(table::AirSpringTable::build(s, p)?))
+        } else {
+            Ok(Box::new(AirSpring::build(s, p)?))
+        },
         name: "air_spring",
         summary: "air spring: cord-rubber bellows enclosing gas, rolling on a piston",
         legacy: |_t| false,
@@ -87,6 +92,32 @@ pub struct AirSpringScene {
     /// Mesh sizes.
     #[serde(default)]
     pub mesh: MeshSection,
+    /// The effective-area table of level 3.
+    #[serde(default)]
+    pub table: Option<TableSection>,
+}
+
+/// `[table]`: the characteristic of the bellows at a reference gauge pressure for level 3
+/// (`model.fidelity = 3`), generated from the membrane level by `flexfmu air-spring-table` or
+/// taken from a data sheet. Heights strictly increasing; the gas law acts on top:
+/// `V(z, p) = volume(z) + volume_compliance(z) (p_g − reference_pressure)` and
+/// `F = p_g effective_area(z)`.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableSection {
+    /// Where the table comes from (free text).
+    #[serde(default)]
+    pub source: String,
+    /// Gauge pressure of the table [Pa].
+    pub reference_pressure: f64,
+    /// Heights of the top plate above the piston base [m].
+    pub height: Vec<f64>,
+    /// Effective area `F / p_g` [m²].
+    pub effective_area: Vec<f64>,
+    /// Bag volume without `gas.inner_volume` [m³].
+    pub volume: Vec<f64>,
+    /// Volume compliance `∂V/∂p_g` at constant height [m³/Pa].
+    pub volume_compliance: Vec<f64>,
 }
 
 macro_rules! defaults {
@@ -111,8 +142,8 @@ macro_rules! defaults {
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ModelSection {
-    /// `model.fidelity`: 2 = axisymmetric membrane (1 = shell and 3 = table are not built
-    /// yet).
+    /// `model.fidelity`: 2 = axisymmetric membrane, 3 = effective-area table (1 = the shell
+    /// is not built yet).
     #[serde(default = "ModelSection::fidelity")]
     pub fidelity: i64,
 }

@@ -28,13 +28,14 @@
 
 use super::AirSpringScene;
 use super::scene::{Input, Output, io, names::*, piston_contour};
+use super::table::gas_params;
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::ContactPointSet;
 use crate::contact::circle_friction::ContactLaw;
 use crate::contact::revolution::AxisymObstacle;
 use crate::elements::axisym_membrane::{AxisymMembrane, frustum_volume};
 use crate::elements::cord_rubber::CordRubberWall;
-use crate::gas::{Gas, GasLaw, GasParams, Reservoir};
+use crate::gas::Gas;
 use crate::integrators::DynState;
 use crate::linalg::{CscPattern, LinearSolver, SolverKind, rank_one_len};
 use crate::meshers::bellows::rolling_lobe_start;
@@ -196,31 +197,6 @@ impl std::fmt::Debug for AirSpring {
             .field("n_el", &self.n_el)
             .field("t", &self.t)
             .finish()
-    }
-}
-
-fn gas_params(p: &ParamValues, scene: &AirSpringScene) -> GasParams {
-    let law = match p.integer(GAS_MODEL) {
-        2 => GasLaw::Energy {
-            heat_transfer: p.real(GAS_HEAT_TRANSFER),
-        },
-        _ => GasLaw::Polytropic {
-            n: p.real(GAS_POLYTROPIC_EXPONENT),
-        },
-    };
-    let reservoir = scene.reservoir.as_ref().map(|_| Reservoir {
-        volume: p.real(RESERVOIR_VOLUME),
-        orifice_diameter: p.real(ORIFICE_DIAMETER),
-        cd: p.real(ORIFICE_CD),
-        pipe_length: p.real(PIPE_LENGTH),
-        pipe_diameter: p.real(PIPE_DIAMETER),
-    });
-    GasParams {
-        law,
-        ambient_pressure: p.real(AMBIENT_PRESSURE),
-        ambient_temperature: p.real(AMBIENT_TEMPERATURE),
-        inner_volume: p.real(GAS_INNER_VOLUME),
-        reservoir,
     }
 }
 
@@ -1140,6 +1116,7 @@ impl Model for AirSpring {
         }
         self.main.contact.restore(r)?;
         self.gas.restore(r).map_err(e)?;
+        // the condensation of the restored state is computed when asked
         self.commits += 1;
         Ok(())
     }

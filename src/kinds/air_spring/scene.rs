@@ -121,7 +121,17 @@ use names::*;
 pub const GAS_MODELS: &[(&str, i32)] = &[("polytropic", 1), ("energy", 2)];
 
 /// Fidelity levels that are built (values of `model.fidelity`).
-pub const FIDELITIES: &[(&str, i32)] = &[("axisymmetric_membrane", 2)];
+pub const FIDELITIES: &[(&str, i32)] = &[("axisymmetric_membrane", 2), ("table", 3)];
+
+/// The membrane level only.
+const MEMBRANE_ONLY: &[(&str, i32)] = &[("axisymmetric_membrane", 2)];
+/// The table level only.
+const TABLE_ONLY: &[(&str, i32)] = &[("table", 3)];
+
+/// Whether a scene is a table scene (level 3).
+pub fn is_table(s: &AirSpringScene) -> bool {
+    s.model.fidelity == 3
+}
 
 /// Checks what the parameters cannot: the reservoir tables come together, the contour is
 /// increasing, the gas law is known.
@@ -139,7 +149,7 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
         .any(|(_, c)| *c as i64 == s.model.fidelity)
     {
         errs.push(format!(
-            "model.fidelity = {}: the levels built are {} (level 1, the seed-004 shell, and level 3, the effective-area table, are not built yet)",
+            "model.fidelity = {}: the levels built are {} (level 1, the seed-004 shell, is not built yet)",
             s.model.fidelity,
             crate::scene::params::describe(FIDELITIES)
         ));
@@ -149,6 +159,44 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
         errs.push(
             "reservoir, orifice, pipe: a reservoir needs all three tables ([reservoir] volume, [orifice] diameter, [pipe] length and diameter)".into(),
         );
+    }
+    match (&s.table, is_table(s)) {
+        (None, true) => errs.push(
+            "table: model.fidelity = 3 needs a [table] (generate one with `flexfmu air-spring-table SCENE.toml`, or take it from a data sheet)".into(),
+        ),
+        (Some(_), false) => errs.push(
+            "table: a [table] is used by model.fidelity = 3 only; remove it or set the fidelity".into(),
+        ),
+        (Some(t), true) => {
+            let n = t.height.len();
+            if n < 4 {
+                errs.push("table.height: give at least 4 heights".into());
+            }
+            for (k, v) in [
+                ("effective_area", &t.effective_area),
+                ("volume", &t.volume),
+                ("volume_compliance", &t.volume_compliance),
+            ] {
+                if v.len() != n {
+                    errs.push(format!(
+                        "table.{k}: {} values for {n} heights",
+                        v.len()
+                    ));
+                }
+            }
+            if t.height.windows(2).any(|w| !(w[1] > w[0]))
+                || t.height.iter().chain(&t.effective_area).chain(&t.volume).any(|x| !x.is_finite())
+            {
+                errs.push("table.height: strictly increasing finite heights, finite areas and volumes".into());
+            }
+            if t.effective_area.iter().chain(&t.volume).any(|&x| x <= 0.0) {
+                errs.push("table.effective_area, table.volume: must be positive".into());
+            }
+            if !(t.reference_pressure > 0.0 && t.reference_pressure.is_finite()) {
+                errs.push("table.reference_pressure: a positive gauge pressure [Pa]".into());
+            }
+        }
+        (None, false) => {}
     }
     if let Some(c) = &s.piston.contour {
         if c.len() < 2 {
@@ -182,13 +230,22 @@ fn real(name: &'static str, v: f64, unit: Unit, what: &str, check: Check) -> Par
 /// The parameters.
 pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
     let fid = int_param(s.model.fidelity, MODEL_FIDELITY)?;
+    let table = is_table(s);
     let mut defs = vec![ParamDef::new(
         MODEL_FIDELITY,
         Value::Integer(fid),
         None,
-        "Fidelity level: 2 = axisymmetric membrane (2-node conical elements on the meridian)",
-        Check::Choice(FIDELITIES),
+        if table {
+            "Fidelity level: 3 = effective-area table with the gas law on top (this FMU carries the table only)"
+        } else {
+            "Fidelity level: 2 = axisymmetric membrane (2-node conical elements on the meridian)"
+        },
+        Check::Choice(if table { TABLE_ONLY } else { MEMBRANE_ONLY }),
     )];
+    if table {
+        defs.extend(gas_params(s));
+        return Ok(defs);
+    }
     let (pr, ph) = match &s.piston.contour {
         Some(c) => {
             let top = c.last().copied().unwrap_or([0.0, 0.0]);
@@ -281,6 +338,28 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
             "Cords carry tension only (default: linear in tension and compression)",
             Check::None,
         ),
+    ]);
+    defs.extend(gas_params(s));
+    defs.push(real(
+        CONTACT_STIFFNESS,
+        s.contact.stiffness,
+        Unit::NPerM3,
+        "Penalty of the contact with piston and top plate (pressure per penetration)",
+        Check::Positive,
+    ));
+    defs.push(ParamDef::new(
+        MESH_N_MERIDIONAL,
+        Value::Integer(int_param(s.mesh.n_meridional, MESH_N_MERIDIONAL)?),
+        None,
+        "Elements along the sleeve",
+        Check::IntRange(8, 100_000),
+    ));
+    Ok(defs)
+}
+
+/// The parameters of the design state, the gas, the ambient air and the reservoir (every level).
+fn gas_params(s: &AirSpringScene) -> Vec<ParamDef> {
+    let mut defs = vec![
         real(
             SPRING_DESIGN_HEIGHT,
             s.spring.design_height,
@@ -342,7 +421,7 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
             "Ambient temperature (charge temperature and heat sink)",
             Check::Positive,
         ),
-    ]);
+    ];
     if let (Some(r), Some(o), Some(p)) = (&s.reservoir, &s.orifice, &s.pipe) {
         defs.extend([
             real(
@@ -382,26 +461,13 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
             ),
         ]);
     }
-    defs.push(real(
-        CONTACT_STIFFNESS,
-        s.contact.stiffness,
-        Unit::NPerM3,
-        "Penalty of the contact with piston and top plate (pressure per penetration)",
-        Check::Positive,
-    ));
-    defs.push(ParamDef::new(
-        MESH_N_MERIDIONAL,
-        Value::Integer(int_param(s.mesh.n_meridional, MESH_N_MERIDIONAL)?),
-        None,
-        "Elements along the sleeve",
-        Check::IntRange(8, 100_000),
-    ));
-    Ok(defs)
+    defs
 }
 
 /// The inputs and outputs.
 pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
     let mut io = KindIo::default();
+    let table = is_table(s);
     io.input(
         "top.z".into(),
         s.spring.design_height,
@@ -422,7 +488,7 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         "Axial force of the spring on the top plate (positive pushes it up)".into(),
         Output::TopFz,
     )
-    .depending_on(&["top.z", "top.vz"]);
+    .depending_on(&["top.z"]);
     let outs: &[(&str, Unit, &str, Output)] = &[
         (
             "gas.pressure",
@@ -481,6 +547,9 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         ),
     ];
     for (name, unit, what, role) in outs {
+        if table && *role == Output::LobeRadius {
+            continue;
+        }
         io.output(name.to_string(), *unit, what.to_string(), *role);
     }
     if s.reservoir.is_some() {
@@ -519,6 +588,9 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         ),
     ];
     for (name, what, role) in energies {
+        if table && matches!(role, Output::StrainEnergy | Output::KineticEnergy) {
+            continue;
+        }
         io.output(name.to_string(), Unit::J, what.to_string(), *role);
     }
     io
