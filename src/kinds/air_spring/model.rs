@@ -723,10 +723,10 @@ impl AirSpring {
     fn condensed(&self) -> Option<Condensed> {
         let mut guard = self.cond.borrow_mut();
         let cond = &mut *guard;
-        if let Some((k, c)) = cond.cache {
-            if k == self.commits {
-                return c;
-            }
+        if let Some((k, c)) = cond.cache
+            && k == self.commits
+        {
+            return c;
         }
         let c = self.compute_condensed(cond);
         cond.cache = Some((self.commits, c));
