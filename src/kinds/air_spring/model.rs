@@ -854,9 +854,7 @@ impl AirSpring {
         let e = self.gas.committed();
         match o {
             Output::TopFz => {
-                // the plate where the inputs put it now (a new top.z set at a communication
-                // point moves it; after a step it is where the step took it)
-                let dz = prescribed(&self.top_z, &self.top_vz, self.t).0 - self.height;
+                let dz = self.top_z.at(self.t) - self.height;
                 if dz == 0.0 {
                     self.force
                 } else {
