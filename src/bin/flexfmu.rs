@@ -112,7 +112,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let lo: f64 = parts[0].parse().map_err(|_| bad())?;
             let hi: f64 = parts[1].parse().map_err(|_| bad())?;
             let n: usize = parts[2].parse().map_err(|_| bad())?;
-            if n < 4 || !(hi > lo) {
+            if n < 4 || hi <= lo || hi.is_nan() || lo.is_nan() {
                 return Err(bad());
             }
             let hs: Vec<f64> = (0..n)

@@ -135,14 +135,28 @@ struct Condensed {
     dvdh: f64,
 }
 
+/// The quasi-static condensation: its own assembly (bead z and plate free), factorization and
+/// buffers, and the result of the last computation with the commit it belongs to. Computed on
+/// demand (an output, a derivative or the `top.fz` extrapolation asks), at most once per commit,
+/// so a step whose outputs do not need it pays nothing for it.
+#[derive(Debug)]
+struct Condensation {
+    ext: Mech,
+    solver: Option<LinearSolver>,
+    vals: Vec<f64>,
+    work: Work,
+    /// Columns of `K⁻¹` at the two plate coordinates.
+    y: [Vec<f64>; 2],
+    /// Commit counter and result (`None`: the condensation failed) of the last computation.
+    cache: Option<(u64, Option<Condensed>)>,
+}
+
 /// The air-spring model at the membrane level.
 pub struct AirSpring {
     n_el: usize,
     main: Mech,
-    /// The same with the bead's z and the plate free: for the condensation.
-    ext: Mech,
-    ext_solver: Option<LinearSolver>,
-    ext_vals: Vec<f64>,
+    /// The same with the bead's z and the plate free: the condensation, computed on demand.
+    cond: RefCell<Condensation>,
     bead_radius: f64,
     clamp: [f64; 2],
     design_height: f64,
@@ -175,7 +189,10 @@ pub struct AirSpring {
     contact_loss: f64,
     last_damping_power: f64,
     commits: u64,
-    cache: RefCell<Option<(u64, Condensed)>>,
+    /// Free-coordinate buffers of [`AirSpring::reaction`] (`q`, `v`, residual) and the
+    /// midpoint coordinates of [`MechanicalSystem::midpoint_residual`].
+    scratch: [Vec<f64>; 3],
+    midpoint: Vec<f64>,
 }
 
 impl std::fmt::Debug for AirSpring {
@@ -274,6 +291,7 @@ impl AirSpring {
         constrained[1] = false;
         constrained[2 * n_nodes + 1] = false;
         let ext = Mech::new(n_el, element, &constrained, law, obstacles, length);
+        let n_ext = ext.asm.dofs.n_free();
         // start shape: a lobe of outer radius a fifth of the bead–piston gap beyond the bead
         let start = rolling_lobe_start(
             &contour,
@@ -297,12 +315,25 @@ impl AirSpring {
         let gp = gas_params(p, scene);
         let pd = p.real(GAS_PRESSURE_DESIGN);
         let io = io(scene);
+        let work = || Work {
+            q: vec![0.0; n_full],
+            v: vec![0.0; n_full],
+            a: vec![0.0; n_full],
+            f: vec![0.0; n_full],
+            grad: vec![0.0; n_full],
+        };
+        let n_main = main.asm.dofs.n_free();
         let mut model = Self {
             n_el,
             main,
-            ext,
-            ext_solver: None,
-            ext_vals: vec![],
+            cond: RefCell::new(Condensation {
+                ext,
+                solver: None,
+                vals: vec![],
+                work: work(),
+                y: [vec![0.0; n_ext], vec![0.0; n_ext]],
+                cache: None,
+            }),
             bead_radius: rb,
             clamp,
             design_height: hd,
@@ -319,13 +350,7 @@ impl AirSpring {
             t: 0.0,
             q,
             v: vec![0.0; n_full],
-            work: Work {
-                q: vec![0.0; n_full],
-                v: vec![0.0; n_full],
-                a: vec![0.0; n_full],
-                f: vec![0.0; n_full],
-                grad: vec![0.0; n_full],
-            },
+            work: work(),
             force: 0.0,
             height: hd,
             pressure_now: 0.0,
@@ -337,14 +362,12 @@ impl AirSpring {
             contact_loss: 0.0,
             last_damping_power: 0.0,
             commits: 0,
-            cache: RefCell::new(None),
+            scratch: [vec![0.0; n_main], vec![0.0; n_main], vec![0.0; n_main]],
+            midpoint: vec![0.0; n_main],
         };
         model.solve_design(pd)?;
         let vd = volume_gradient(n_el, &model.q, &mut model.work.grad);
-        model
-            .gas
-            .charge(pd, vd)
-            .map_err(|e| gas_error(e, &gp))?;
+        model.gas.charge(pd, vd).map_err(|e| gas_error(e, &gp))?;
         model.v_charge = model.gas.committed().volume;
         let zeros = vec![0.0; model.n_free()];
         model.force = model
@@ -536,6 +559,8 @@ impl AirSpring {
             to.1
         };
         self.top_z = InputSignal::constant(to.0);
+        // a new shape: the condensation of the old one is stale
+        self.commits += 1;
         Ok(())
     }
 
@@ -703,67 +728,69 @@ impl AirSpring {
         )
     }
 
-    /// The quasi-static derivatives of the committed state (cached per commit).
-    fn condensed(&self) -> Option<Condensed> {
-        if let Some((k, c)) = *self.cache.borrow() {
-            if k == self.commits {
-                return Some(c);
-            }
-        }
-        None
-    }
-
-    /// Computes the quasi-static condensation on the second assembly (bead z and plate free):
+    /// The quasi-static derivatives of the committed state, computed on the first request
+    /// after a commit (see [`Condensation`]) on the second assembly (bead z and plate free):
     /// with the columns `Y` of `K⁻¹` at the two plate coordinates, the Schur complement is
     /// `S = Y_hh⁻¹`, `d top.fz/d top.z = −dᵀ S d` and the shape change `Y S d`.
-    fn compute_condensed(&mut self) -> Option<Condensed> {
-        if let Some(c) = self.condensed() {
-            return Some(c);
+    fn condensed(&self) -> Option<Condensed> {
+        let mut guard = self.cond.borrow_mut();
+        let cond = &mut *guard;
+        if let Some((k, c)) = cond.cache
+            && k == self.commits
+        {
+            return c;
         }
+        let c = self.compute_condensed(cond);
+        cond.cache = Some((self.commits, c));
+        c
+    }
+
+    fn compute_condensed(&self, cond: &mut Condensation) -> Option<Condensed> {
         let n_nodes = self.n_el + 1;
-        let ext = &mut self.ext;
-        let pattern = ext.asm.pattern.clone();
-        if self.ext_solver.is_none() {
-            self.ext_solver = LinearSolver::new(&pattern, SolverKind::Auto).ok();
-            self.ext_vals = vec![0.0; rank_one_len(&pattern)];
+        let Condensation {
+            ext,
+            solver,
+            vals,
+            work,
+            y,
+            ..
+        } = cond;
+        if solver.is_none() {
+            *solver = Some(LinearSolver::new(&ext.asm.pattern, SolverKind::Auto).ok()?);
+            *vals = vec![0.0; rank_one_len(&ext.asm.pattern)];
         }
+        let solver = solver.as_mut()?;
         // committed state, at rest
-        self.work.q.copy_from_slice(&self.q);
-        self.work.v.fill(0.0);
-        self.work.a.fill(0.0);
-        let vm = volume_gradient(self.n_el, &self.work.q, &mut self.work.grad);
+        work.q.copy_from_slice(&self.q);
+        work.v.fill(0.0);
+        work.a.fill(0.0);
+        let vm = volume_gradient(self.n_el, &work.q, &mut work.grad);
         let e = self.gas.evaluate(0.0, vm).ok()?;
         let coeffs = JacobianCoeffs {
             mass: 0.0,
             damping: 0.0,
             stiffness: 1.0,
         };
-        let mut vals = std::mem::take(&mut self.ext_vals);
         Self::assemble_full(
-            &mut self.ext,
+            ext,
             self.n_el,
-            &mut self.work,
+            work,
             e.p_gauge,
             e.dp_dv,
-            Some((coeffs, &mut vals)),
+            Some((coeffs, &mut vals[..])),
         );
         // S = K_hh − K_hf K_ff⁻¹ K_fh from the inverse of the matrix with ε added on both plate
         // coordinates (the plate's own row is empty out of contact): S = Y_hh⁻¹ − ε I.
         let eps = 1e6;
-        let dofs = &self.ext.asm.dofs;
+        let dofs = &ext.asm.dofs;
+        let pattern = &ext.asm.pattern;
         let hz = [dofs.free_index(1)?, dofs.free_index(2 * n_nodes + 1)?];
         for &h in &hz {
             vals[pattern.position(h, h)?] += eps;
         }
-        let solver = self.ext_solver.as_mut()?;
-        let ok = solver.factor(&pattern, &vals).is_ok();
-        self.ext_vals = vals;
-        if !ok {
-            return None;
-        }
-        let n = dofs.n_free();
-        let mut y = [vec![0.0; n], vec![0.0; n]];
+        solver.factor(pattern, vals).ok()?;
         for (j, col) in y.iter_mut().enumerate() {
+            col.fill(0.0);
             col[hz[j]] = 1.0;
             solver.solve_in_place(col);
         }
@@ -782,11 +809,9 @@ impl AirSpring {
         let mut dvdh = 0.0;
         for (i, &full) in dofs.free_to_full().iter().enumerate() {
             // δx = Y (S + ε I) d
-            dvdh += self.work.grad[full] * (y[0][i] * (sd[0] + eps) + y[1][i] * (sd[1] + eps));
+            dvdh += work.grad[full] * (y[0][i] * (sd[0] + eps) + y[1][i] * (sd[1] + eps));
         }
-        let c = Condensed { dfdh, dvdh };
-        *self.cache.borrow_mut() = Some((self.commits, c));
-        Some(c)
+        Some(Condensed { dfdh, dvdh })
     }
 
     /// Largest radius of the committed meridian [m].
@@ -818,16 +843,16 @@ impl AirSpring {
 
     /// Reaction at the plate of the committed state with accelerations `acc` (free).
     fn reaction(&mut self, acc: &[f64]) -> Result<f64, ModelError> {
-        let n = self.main.asm.dofs.n_free();
-        let (mut qf, mut vf) = (vec![0.0; n], vec![0.0; n]);
+        let [mut qf, mut vf, mut r] = std::mem::take(&mut self.scratch);
         self.main.asm.dofs.restrict(&self.q, &mut qf);
         self.main.asm.dofs.restrict(&self.v, &mut vf);
-        let mut r = vec![0.0; n];
         let saved = self.hold;
         self.hold = true;
         self.fill_work(self.t, 1.0, &qf, &vf, acc);
         self.hold = saved;
-        self.evaluate_filled(Pressure::Step(0.0), &mut r, None)?;
+        let res = self.evaluate_filled(Pressure::Step(0.0), &mut r, None);
+        self.scratch = [qf, vf, r];
+        res?;
         let n_nodes = self.n_el + 1;
         self.strain = self.main.elements.strain_energy(&self.work.q, None);
         self.kinetic = self
@@ -925,7 +950,10 @@ impl MechanicalSystem for AirSpring {
         r: &mut [f64],
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let qm: Vec<f64> = q_a.iter().zip(q_b).map(|(x, y)| 0.5 * (x + y)).collect();
+        let mut qm = std::mem::take(&mut self.midpoint);
+        for ((m, x), y) in qm.iter_mut().zip(q_a).zip(q_b) {
+            *m = 0.5 * (x + y);
+        }
         let tm = 0.5 * (t_a + t_b);
         let jac = jac.map(|(c, vals)| {
             (
@@ -937,6 +965,7 @@ impl MechanicalSystem for AirSpring {
             )
         });
         self.fill_work(tm, 1.0, &qm, v, a);
+        self.midpoint = qm;
         self.evaluate_filled(Pressure::Step((tm - self.t).max(0.0)), r, jac)
     }
 
@@ -991,7 +1020,7 @@ impl Model for AirSpring {
 
     fn output_input_derivative(&mut self, output: usize, input: usize) -> Option<f64> {
         match (self.outputs[output], self.inputs[input]) {
-            (Output::TopFz, Input::TopZ) => self.compute_condensed().map(|c| c.dfdh),
+            (Output::TopFz, Input::TopZ) => self.condensed().map(|c| c.dfdh),
             (Output::TopFz, Input::TopVz) => Some(0.0),
             _ => None,
         }
@@ -999,6 +1028,16 @@ impl Model for AirSpring {
 
     fn hold_prescribed_motion(&mut self, hold: bool) {
         self.hold = hold;
+    }
+
+    /// `top.z` and `top.vz` are set at every communication step as a smooth motion: the
+    /// integrator keeps its accelerations. At a held plate position the residual of the free
+    /// coordinates does not depend on the inputs (no damping acts on the plate velocity), so a
+    /// restart would only recompute the accelerations the integrator has (and cost a
+    /// factorization of the mass matrix per communication step, which also throws away the
+    /// kept iteration matrix of modified Newton).
+    fn input_restarts_accelerations(&self, _input: usize) -> bool {
+        false
     }
 
     fn accept(&mut self, state: &mut DynState) {
@@ -1033,7 +1072,6 @@ impl Model for AirSpring {
         }
         self.initialized = true;
         self.commits += 1;
-        let _ = self.compute_condensed();
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
@@ -1090,8 +1128,8 @@ impl Model for AirSpring {
         }
         self.main.contact.restore(r)?;
         self.gas.restore(r).map_err(e)?;
+        // the condensation of the restored state is computed when asked
         self.commits += 1;
-        let _ = self.compute_condensed();
         Ok(())
     }
 }

@@ -184,7 +184,7 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
                     ));
                 }
             }
-            if t.height.windows(2).any(|w| !(w[1] > w[0])) || t.height.iter().any(|x| !x.is_finite()) {
+            if t.height.windows(2).any(|w| w[1] <= w[0] || w[1].is_nan()) || t.height.iter().any(|x| !x.is_finite()) {
                 errs.push("table.height: strictly increasing finite heights [m]".into());
             }
             for (k, v) in [("effective_area", &t.effective_area), ("volume", &t.volume)] {
@@ -512,7 +512,7 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         "Axial force of the spring on the top plate (positive pushes it up)".into(),
         Output::TopFz,
     )
-    .depending_on(&["top.z"]);
+    .depending_on(&["top.z", "top.vz"]);
     let outs: &[(&str, Unit, &str, Output)] = &[
         (
             "gas.pressure",

@@ -218,7 +218,7 @@ impl AirSpringTable {
         m.inputs = io.inputs;
         m.outputs = io.outputs;
         let vd = m.table_volume(hd, pd);
-        if !(vd > 0.0) {
+        if vd.is_nan() || vd <= 0.0 {
             return Err(format!(
                 "table.volume, table.volume_compliance, table.reference_pressure: the bag volume at {SPRING_DESIGN_HEIGHT} = {hd} m and {GAS_PRESSURE_DESIGN} = {pd} Pa is {vd} m3"
             ));
@@ -496,7 +496,7 @@ pub fn generate(
     if super::scene::is_table(tables) {
         return Err("air-spring-table: the scene is already a table (model.fidelity = 3)".into());
     }
-    if heights.len() < 4 || heights.windows(2).any(|w| !(w[1] > w[0])) {
+    if heights.len() < 4 || heights.windows(2).any(|w| w[1] <= w[0] || w[1].is_nan()) {
         return Err("air-spring-table: give at least 4 increasing heights".into());
     }
     let mut params = ParamValues::defaults(&scene.params);
