@@ -862,6 +862,17 @@ impl AirSpring {
         Ok(-(self.work.f[1] + self.work.f[2 * n_nodes + 1]))
     }
 
+    /// `∂z/∂top.vz` of the plate position the force refers to: the time since `top.z` was set
+    /// when the position is advanced with the velocity input (no position derivatives given),
+    /// else 0 ([`prescribed`]).
+    fn velocity_lever(&self) -> f64 {
+        if self.top_z.interpolated {
+            0.0
+        } else {
+            self.t - self.top_z.t_ref
+        }
+    }
+
     fn value(&self, o: Output) -> f64 {
         let e = self.gas.committed();
         match o {
@@ -1021,7 +1032,10 @@ impl Model for AirSpring {
     fn output_input_derivative(&mut self, output: usize, input: usize) -> Option<f64> {
         match (self.outputs[output], self.inputs[input]) {
             (Output::TopFz, Input::TopZ) => self.condensed().map(|c| c.dfdh),
-            (Output::TopFz, Input::TopVz) => Some(0.0),
+            (Output::TopFz, Input::TopVz) => {
+                let lever = self.velocity_lever();
+                self.condensed().map(|c| c.dfdh * lever)
+            }
             _ => None,
         }
     }

@@ -290,6 +290,17 @@ impl AirSpringTable {
         })
     }
 
+    /// `∂z/∂top.vz` of the plate position the force refers to: the time since `top.z` was set
+    /// when the position is advanced with the velocity input (no position derivatives given),
+    /// else 0 ([`prescribed`]).
+    fn velocity_lever(&self) -> f64 {
+        if self.top_z.interpolated {
+            0.0
+        } else {
+            self.t - self.top_z.t_ref
+        }
+    }
+
     fn value(&self, o: Output) -> f64 {
         let e = self.gas.committed();
         match o {
@@ -395,7 +406,7 @@ impl Model for AirSpringTable {
     fn output_input_derivative(&mut self, output: usize, input: usize) -> Option<f64> {
         match (self.outputs[output], self.inputs[input]) {
             (Output::TopFz, Input::TopZ) => Some(self.point.dfdz),
-            (Output::TopFz, Input::TopVz) => Some(0.0),
+            (Output::TopFz, Input::TopVz) => Some(self.point.dfdz * self.velocity_lever()),
             _ => None,
         }
     }
