@@ -257,16 +257,18 @@ impl AirSpringTable {
         let (c, dc) = self.compliance.eval(z);
         let mut p_g = self.gas.committed().p_gauge;
         let mut ok = false;
+        let mut dpdv = 0.0;
         for _ in 0..50 {
             let v = self.table_volume(z, p_g);
-            let (p, dpdv) = self.gas_at(dt, v)?;
+            let (p, d) = self.gas_at(dt, v)?;
+            dpdv = d;
             let f = p_g - (p - pa);
-            let df = 1.0 - dpdv * c;
-            let step = f / df;
+            let step = f / (1.0 - dpdv * c);
             p_g -= step;
             if !p_g.is_finite() {
                 break;
             }
+            // the last step is below round-off: p_g and dp/dV are those of the last volume
             if step.abs() <= 1e-12 * (p_g.abs() + pa) {
                 ok = true;
                 break;
@@ -276,7 +278,6 @@ impl AirSpringTable {
             return Err(format!("no gas pressure at height {z} m"));
         }
         let v = self.table_volume(z, p_g);
-        let (_, dpdv) = self.gas_at(dt, v)?;
         let (a, da) = self.area.eval(z);
         let (_, dvol) = self.volume.eval(z);
         let dvz = dvol + dc * (p_g - self.p_ref);
