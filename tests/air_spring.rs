@@ -303,3 +303,31 @@ fn table_level_over_the_stroke() {
     let k = at(0.23).1;
     assert!((k / k_fd - 1.0).abs() < 1e-5, "{k} vs {k_fd}");
 }
+
+/// A contoured piston widening downwards (radius 0.110 m at the base, 0.100 m at the top):
+/// as the spring is compressed the lobe rolls onto the wider part and the effective area grows
+/// (a progressive spring, `shared/reference/air-spring-physics.md` §1.1), while the exact
+/// identity A_e = π r_h² still holds.
+#[test]
+fn contoured_piston_makes_the_effective_area_grow_with_compression() {
+    let text = axisym_text().replace(
+        "height = 0.15           # m, top above the piston base",
+        "height = 0.15           # m, top above the piston base\ncontour = [[0.110, 0.0], [0.100, 0.15]]",
+    );
+    let text = with(&text, "n_meridional", "120");
+    assert!(text.contains("contour"));
+    let mut m = build(&text);
+    let mut areas = vec![];
+    for h in [0.27, 0.25, 0.23, 0.21] {
+        let (f, _) = m.equilibrium_at(h, 5e5).unwrap();
+        let rh = horizontal_tangent_radius(&m);
+        let ae = f / 5e5;
+        println!(
+            "h = {h}: A_e = {ae:.6} m2, r_h = {rh:.5} m, A_e/(pi r_h^2) - 1 = {:+.2e}",
+            ae / (std::f64::consts::PI * rh * rh) - 1.0
+        );
+        assert!((ae / (std::f64::consts::PI * rh * rh) - 1.0).abs() < 2e-3);
+        areas.push(ae);
+    }
+    assert!(areas.windows(2).all(|w| w[1] > w[0]), "{areas:?}");
+}
