@@ -112,8 +112,11 @@ fn run(cli: Cli) -> Result<(), String> {
             let lo: f64 = parts[0].parse().map_err(|_| bad())?;
             let hi: f64 = parts[1].parse().map_err(|_| bad())?;
             let n: usize = parts[2].parse().map_err(|_| bad())?;
-            if n < 4 || hi <= lo || hi.is_nan() || lo.is_nan() {
+            if n < 4 || hi <= lo || !hi.is_finite() || !lo.is_finite() || lo <= 0.0 {
                 return Err(bad());
+            }
+            if pressure.is_some_and(|p| !(p.is_finite() && p > 0.0)) {
+                return Err("--pressure: a positive gauge pressure [Pa]".into());
             }
             let hs: Vec<f64> = (0..n)
                 .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)

@@ -535,8 +535,17 @@ impl Simulation {
             *xi = 1.0 + ((i * 7919) % 13) as f64 / 13.0;
         }
         let mut lambda = 0.0;
+        let nnz = self.ws.pattern.nnz();
         for _ in 0..60 {
-            self.ws.pattern.mul_vec(k, x, y);
+            self.ws.pattern.mul_vec(&k[..nnz], x, y);
+            // the rank-one part c g gᵀ of the stiffness, if the model has one
+            if k.len() > nnz && k[nnz] != 0.0 {
+                let (c, g) = (k[nnz], &k[nnz + 1..]);
+                let gx: f64 = g.iter().zip(x.iter()).map(|(a, b)| a * b).sum();
+                for (yi, gi) in y.iter_mut().zip(g) {
+                    *yi += c * gx * gi;
+                }
+            }
             self.ws.solver.solve_in_place(y);
             let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
             let xn = x.iter().map(|v| v * v).sum::<f64>().sqrt();

@@ -6,12 +6,12 @@
 //! heat transfer, optionally with a reservoir behind an orifice and a pipe; its mass is fixed by
 //! the design state (`gas.pressure_design` at `spring.design_height`).
 //!
-//! Fidelity levels (`model.fidelity`): 2 = axisymmetric membrane of 2-node conical elements
-//! ([`crate::elements::axisym_membrane`]) with the cord–rubber wall law
+//! Fidelity levels (`model.fidelity`, one per scene): 2 = axisymmetric membrane of 2-node
+//! conical elements ([`crate::elements::axisym_membrane`]) with the cord–rubber wall law
 //! ([`crate::elements::cord_rubber`]) and frictionless contact with piston and top plate
-//! ([`crate::contact::revolution`]). Level 1 (the seed-004 shell) and level 3 (effective-area
-//! table) are declared by issue 11 and not built yet: the parameter admits only the levels
-//! that exist.
+//! ([`crate::contact::revolution`]), model [`model`]; 3 = the effective-area table with the gas
+//! law on top, model [`table`]. Level 1 (the seed-004 shell) is declared by issue 11 and not
+//! built yet: the parameter admits only the levels that exist.
 //!
 //! Coupling: the master moves the top plate (`top.z`, `top.vz`, the height above the piston
 //! base) and reads the force `top.fz` (positive pushes the plate up) with its directional
@@ -21,7 +21,9 @@ pub mod model;
 pub mod scene;
 pub mod table;
 
+use crate::model::inputs::{InputSignal, prescribed};
 use crate::scene::tables::{ExperimentSection, FmuSection, SolverSection};
+use crate::snapshot::{SnapshotError, StateReader, StateWriter};
 use model::AirSpring;
 use serde::Deserialize;
 
@@ -37,6 +39,71 @@ body_kind! {
         name: "air_spring",
         summary: "air spring: cord-rubber bellows enclosing gas, rolling on a piston",
         legacy: |_t| false,
+    }
+}
+
+/// The plate inputs `top.z`, `top.vz` of every level: the plate's prescribed motion.
+#[derive(Clone, Copy, Debug)]
+pub struct PlateInput {
+    /// `top.z` [m].
+    pub z: InputSignal,
+    /// `top.vz` [m/s].
+    pub vz: InputSignal,
+}
+
+impl PlateInput {
+    /// At rest at height `z` [m].
+    pub fn at_rest(z: f64) -> Self {
+        Self {
+            z: InputSignal::constant(z),
+            vz: InputSignal::constant(0.0),
+        }
+    }
+
+    /// Sets `input` to `value` at time `t`.
+    pub fn set(&mut self, input: scene::Input, value: f64, t: f64) {
+        match input {
+            scene::Input::TopZ => self.z.set(value, t),
+            scene::Input::TopVz => self.vz.set(value, t),
+        }
+    }
+
+    /// Sets the `order`-th derivative of `input`.
+    pub fn set_derivative(&mut self, input: scene::Input, order: usize, value: f64) {
+        match input {
+            scene::Input::TopZ => self.z.set_derivative(order, value),
+            scene::Input::TopVz => self.vz.set_derivative(order, value),
+        }
+    }
+
+    /// Position [m], velocity [m/s] and acceleration [m/s²] of the plate at `t`
+    /// ([`prescribed`]).
+    pub fn motion(&self, t: f64) -> (f64, f64, f64) {
+        prescribed(&self.z, &self.vz, t)
+    }
+
+    /// `∂z/∂top.vz` of the plate position at `t`: the time since `top.z` was set when the
+    /// position is advanced with the velocity input, 0 when `top.z` has its own derivatives.
+    pub fn velocity_lever(&self, t: f64) -> f64 {
+        if self.z.interpolated {
+            0.0
+        } else {
+            t - self.z.t_ref
+        }
+    }
+
+    /// Appends both signals to a snapshot.
+    pub fn save(&self, w: &mut StateWriter) {
+        self.z.save(w);
+        self.vz.save(w);
+    }
+
+    /// Reads what [`PlateInput::save`] wrote.
+    pub fn restore(r: &mut StateReader) -> Result<Self, SnapshotError> {
+        Ok(Self {
+            z: InputSignal::restore(r)?,
+            vz: InputSignal::restore(r)?,
+        })
     }
 }
 
@@ -161,8 +228,8 @@ pub struct PistonSection {
     #[serde(default = "PistonSection::height")]
     pub height: f64,
     /// A contoured piston: points `[r, z]` [m] from the base up, z increasing, the last at
-    /// the top (then `radius` and `height` are the last point's and must not be given
-    /// differently). Not a parameter.
+    /// the top edge where the sleeve is clamped. Not a parameter; with a contour `radius` and
+    /// `height` are not used and not exposed as parameters.
     #[serde(default = "PistonSection::contour")]
     pub contour: Option<Vec<[f64; 2]>>,
 }

@@ -26,9 +26,9 @@
 //! condensation of the tangent (with the gas's instantaneous `dp/dV`) onto the plate
 //! coordinates, solved on a second assembly where they are free.
 
-use super::AirSpringScene;
 use super::scene::{Input, Output, io, names::*, piston_contour};
 use super::table::{gas_error, gas_params};
+use super::{AirSpringScene, PlateInput};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::ContactPointSet;
 use crate::contact::circle_friction::ContactLaw;
@@ -39,7 +39,6 @@ use crate::gas::Gas;
 use crate::integrators::DynState;
 use crate::linalg::{CscPattern, LinearSolver, SolverKind, rank_one_len};
 use crate::meshers::bellows::rolling_lobe_start;
-use crate::model::inputs::{InputSignal, prescribed};
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::ParamValues;
 use crate::snapshot::{StateReader, StateWriter};
@@ -164,8 +163,9 @@ pub struct AirSpring {
     gas: Gas,
     inputs: Vec<Input>,
     outputs: Vec<Output>,
-    top_z: InputSignal,
-    top_vz: InputSignal,
+    plate: PlateInput,
+    /// Plate height the static solve starts from (the last equilibrium) [m].
+    static_from: f64,
     statics: bool,
     hold: bool,
     initialized: bool,
@@ -222,11 +222,7 @@ fn volume_gradient(n_el: usize, q: &[f64], grad: &mut [f64]) -> f64 {
 impl AirSpring {
     /// Builds the model and solves the design state. Errors name the parameter.
     pub fn build(scene: &AirSpringScene, p: &ParamValues) -> Result<Self, String> {
-        let (rp, hp) = (p.real(PISTON_RADIUS), p.real(PISTON_HEIGHT));
-        let contour = match &scene.piston.contour {
-            Some(_) => piston_contour(scene, rp, hp),
-            None => vec![[rp, 0.0], [rp, hp]],
-        };
+        let contour = piston_contour(scene, p);
         let clamp = *contour.last().expect("two points");
         let rb = p.real(TOP_PLATE_BEAD_RADIUS);
         let r0 = p.real(BELLOWS_SLEEVE_RADIUS);
@@ -342,8 +338,8 @@ impl AirSpring {
             gas: Gas::new(gp, pd, 1.0).map_err(|e| gas_error(e, &gp))?,
             inputs: io.inputs,
             outputs: io.outputs,
-            top_z: InputSignal::constant(hd),
-            top_vz: InputSignal::constant(0.0),
+            plate: PlateInput::at_rest(hd),
+            static_from: hd,
             statics: false,
             hold: false,
             initialized: false,
@@ -437,6 +433,8 @@ impl AirSpring {
         let mut c_level = c_start;
         // residual scale: the pressure force on an element
         let r_scale = pd * self.main.scales[0] * self.main.scales[0] / self.n_el as f64;
+        // restored if the continuation fails: the shape stays at the last equilibrium
+        let (q1_saved, plate_saved) = (self.q[1], self.plate);
         while level < 1.0 {
             let target = (level + step).min(1.0);
             let saved = x.clone();
@@ -450,7 +448,7 @@ impl AirSpring {
                     stiffness: 1.0,
                 };
                 let h = from.0 + target * (to.0 - from.0);
-                self.top_z = InputSignal::constant(h);
+                self.plate = PlateInput::at_rest(h);
                 self.q[1] = h;
                 let res = self.evaluate(
                     0.0,
@@ -535,6 +533,8 @@ impl AirSpring {
                 step *= 0.5;
                 c_level = c_start;
                 if step < 1e-3 {
+                    self.q[1] = q1_saved;
+                    self.plate = plate_saved;
                     return Err(format!(
                         "no static equilibrium of the sleeve from height {:.4} m, gauge pressure {:.4e} Pa to {:.4} m, {:.4e} Pa (reached {:.0} % of the way: {last_err}); check the geometry ({TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {PISTON_HEIGHT}, {BELLOWS_SLEEVE_RADIUS}, {BELLOWS_SLEEVE_LENGTH}, {SPRING_DESIGN_HEIGHT}), the wall ({BELLOWS_CORD_STIFFNESS}, {BELLOWS_N_PLIES}, {BELLOWS_CORD_ANGLE}, {BELLOWS_MATRIX_STIFFNESS}, {BELLOWS_TENSION_ONLY}, {BELLOWS_DENSITY}, {BELLOWS_THICKNESS}), {CONTACT_STIFFNESS}, {MESH_N_MERIDIONAL} and {GAS_PRESSURE_DESIGN}",
                         from.0,
@@ -558,7 +558,7 @@ impl AirSpring {
         } else {
             to.1
         };
-        self.top_z = InputSignal::constant(to.0);
+        self.plate = PlateInput::at_rest(to.0);
         // a new shape: the condensation of the old one is stale
         self.commits += 1;
         Ok(())
@@ -568,13 +568,14 @@ impl AirSpring {
     /// load factor `lambda`).
     fn plate_motion(&self, t: f64, lambda: f64) -> (f64, f64, f64) {
         if self.statics {
-            let z = self.design_height + lambda * (self.top_z.value - self.design_height);
+            let z = self.static_from + lambda * (self.plate.z.value - self.static_from);
             return (z, 0.0, 0.0);
         }
+        let m = self.plate.motion(t);
         if self.hold && t == self.t {
-            return (self.height, self.top_vz.value, 0.0);
+            return (self.height, m.1, m.2);
         }
-        prescribed(&self.top_z, &self.top_vz, t)
+        m
     }
 
     /// Full coordinates from free ones with the prescribed values of the committed plate.
@@ -862,22 +863,11 @@ impl AirSpring {
         Ok(-(self.work.f[1] + self.work.f[2 * n_nodes + 1]))
     }
 
-    /// `∂z/∂top.vz` of the plate position the force refers to: the time since `top.z` was set
-    /// when the position is advanced with the velocity input (no position derivatives given),
-    /// else 0 ([`prescribed`]).
-    fn velocity_lever(&self) -> f64 {
-        if self.top_z.interpolated {
-            0.0
-        } else {
-            self.t - self.top_z.t_ref
-        }
-    }
-
     fn value(&self, o: Output) -> f64 {
         let e = self.gas.committed();
         match o {
             Output::TopFz => {
-                let dz = prescribed(&self.top_z, &self.top_vz, self.t).0 - self.height;
+                let dz = self.plate.motion(self.t).0 - self.height;
                 if dz == 0.0 {
                     self.force
                 } else {
@@ -977,11 +967,21 @@ impl MechanicalSystem for AirSpring {
         });
         self.fill_work(tm, 1.0, &qm, v, a);
         self.midpoint = qm;
-        self.evaluate_filled(Pressure::Step((tm - self.t).max(0.0)), r, jac)
+        self.evaluate_filled(Pressure::Step((tm - self.t).max(0.0)), r, jac)?;
+        // the step commits the gas at the end volume: it must exist there too
+        self.fill_work(t_b, 1.0, q_b, v, a);
+        let vb = volume_gradient(self.n_el, &self.work.q, &mut self.work.grad);
+        self.pressure(Pressure::Step((t_b - self.t).max(0.0)), vb)
+            .map(|_| ())
     }
 
+    /// The static solve moves the plate from the last equilibrium (the design height, or the
+    /// start `top.z` the spring was moved to) to `top.z` with its load factor.
     fn hold_for_statics(&mut self, held: bool) {
         self.statics = held;
+        if held {
+            self.static_from = self.height;
+        }
     }
 }
 
@@ -996,11 +996,10 @@ impl Model for AirSpring {
                 if self.continuation(from, (value, 0.0), true).is_err() {
                     // left at the last equilibrium; the static solve of the initialization
                     // tries from there
-                    self.top_z.set(value, self.t);
+                    self.plate.set(Input::TopZ, value, self.t);
                 }
             }
-            Input::TopZ => self.top_z.set(value, self.t),
-            Input::TopVz => self.top_vz.set(value, self.t),
+            i => self.plate.set(i, value, self.t),
         }
     }
 
@@ -1010,10 +1009,7 @@ impl Model for AirSpring {
         order: usize,
         value: f64,
     ) -> Result<(), String> {
-        match self.inputs[input] {
-            Input::TopZ => self.top_z.set_derivative(order, value),
-            Input::TopVz => self.top_vz.set_derivative(order, value),
-        }
+        self.plate.set_derivative(self.inputs[input], order, value);
         Ok(())
     }
 
@@ -1023,8 +1019,11 @@ impl Model for AirSpring {
 
     fn output_derivative(&self, output: usize) -> Option<f64> {
         match self.outputs[output] {
-            Output::Height => Some(self.top_vz.value),
-            Output::TopFz => self.condensed().map(|c| c.dfdh * self.top_vz.value),
+            Output::Height => Some(self.plate.motion(self.t).1),
+            Output::TopFz => {
+                let vz = self.plate.motion(self.t).1;
+                self.condensed().map(|c| c.dfdh * vz)
+            }
             _ => None,
         }
     }
@@ -1033,7 +1032,7 @@ impl Model for AirSpring {
         match (self.outputs[output], self.inputs[input]) {
             (Output::TopFz, Input::TopZ) => self.condensed().map(|c| c.dfdh),
             (Output::TopFz, Input::TopVz) => {
-                let lever = self.velocity_lever();
+                let lever = self.plate.velocity_lever(self.t);
                 self.condensed().map(|c| c.dfdh * lever)
             }
             _ => None,
@@ -1101,8 +1100,7 @@ impl Model for AirSpring {
         w.f64(self.t);
         w.f64s(&self.q);
         w.f64s(&self.v);
-        self.top_z.save(w);
-        self.top_vz.save(w);
+        self.plate.save(w);
         w.bool(self.initialized);
         for x in [
             self.force,
@@ -1126,8 +1124,7 @@ impl Model for AirSpring {
         let n = self.q.len();
         self.q = r.f64s(Some(n)).map_err(e)?;
         self.v = r.f64s(Some(n)).map_err(e)?;
-        self.top_z = InputSignal::restore(r).map_err(e)?;
-        self.top_vz = InputSignal::restore(r).map_err(e)?;
+        self.plate = PlateInput::restore(r).map_err(e)?;
         self.initialized = r.bool().map_err(e)?;
         for x in [
             &mut self.force,

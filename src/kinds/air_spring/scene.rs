@@ -238,12 +238,15 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
     if errs.is_empty() { Ok(()) } else { Err(errs) }
 }
 
-/// The piston contour `[r, z]` points of a scene with the parameter values (cylinder from
-/// `piston.radius`, `piston.height` unless a contour is given).
-pub fn piston_contour(s: &AirSpringScene, radius: f64, height: f64) -> Vec<[f64; 2]> {
+/// The piston contour `[r, z]` points of a scene with the parameter values `p`: the scene's
+/// contour, or the cylinder of `piston.radius`, `piston.height`.
+pub fn piston_contour(s: &AirSpringScene, p: &crate::scene::ParamValues) -> Vec<[f64; 2]> {
     match &s.piston.contour {
         Some(c) => c.clone(),
-        None => vec![[radius, 0.0], [radius, height]],
+        None => {
+            let (radius, height) = (p.real(PISTON_RADIUS), p.real(PISTON_HEIGHT));
+            vec![[radius, 0.0], [radius, height]]
+        }
     }
 }
 
@@ -270,28 +273,26 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
         defs.extend(gas_params(s));
         return Ok(defs);
     }
-    let (pr, ph) = match &s.piston.contour {
-        Some(c) => {
-            let top = c.last().copied().unwrap_or([0.0, 0.0]);
-            (top[0], top[1])
-        }
-        None => (s.piston.radius, s.piston.height),
-    };
+    if s.piston.contour.is_none() {
+        // a contoured piston's shape is its contour (not a parameter)
+        defs.extend([
+            real(
+                PISTON_RADIUS,
+                s.piston.radius,
+                Unit::M,
+                "Piston radius (a cylinder from its base up to its top)",
+                Check::Positive,
+            ),
+            real(
+                PISTON_HEIGHT,
+                s.piston.height,
+                Unit::M,
+                "Height of the piston top above its base (where the sleeve is clamped)",
+                Check::Positive,
+            ),
+        ]);
+    }
     defs.extend([
-        real(
-            PISTON_RADIUS,
-            pr,
-            Unit::M,
-            "Piston radius (of its top edge for a contoured piston; the contour is not a parameter)",
-            Check::Positive,
-        ),
-        real(
-            PISTON_HEIGHT,
-            ph,
-            Unit::M,
-            "Height of the piston top above its base (where the sleeve is clamped)",
-            Check::Positive,
-        ),
         real(
             TOP_PLATE_BEAD_RADIUS,
             s.top_plate.bead_radius,
@@ -554,7 +555,7 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         (
             "spring.volumetric_area",
             Unit::M2,
-            "Volumetric area -dV/dz = dV/d(top.z) along the quasi-static path with the gas's instantaneous response",
+            "Volumetric area A_v = dV/d(top.z) (= -dV/dz for the compression z): the bag's volume change per plate height along the quasi-static path, the gas responding instantaneously (not the constant-pressure value)",
             Output::VolumetricArea,
         ),
         (

@@ -15,11 +15,10 @@
 
 use super::model::AirSpring;
 use super::scene::{Input, Output, io, names::*};
-use super::{AirSpringScene, TableSection};
+use super::{AirSpringScene, PlateInput, TableSection};
 use crate::gas::{Gas, GasLaw, GasParams, Reservoir};
 use crate::integrators::DynState;
 use crate::linalg::CscPattern;
-use crate::model::inputs::{InputSignal, prescribed};
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::{ParamValues, Scene};
 use crate::snapshot::{StateReader, StateWriter};
@@ -166,9 +165,10 @@ pub struct AirSpringTable {
     gas: Gas,
     inputs: Vec<Input>,
     outputs: Vec<Output>,
-    top_z: InputSignal,
-    top_vz: InputSignal,
+    plate: PlateInput,
     initialized: bool,
+    /// The state at the end of the step the last residual evaluated: `(t, height, point)`.
+    trial: Option<(f64, f64, Point)>,
     t: f64,
     height: f64,
     point: Point,
@@ -204,9 +204,9 @@ impl AirSpringTable {
                 .map_err(|e| gas_error(e, &gas_params(p, scene)))?,
             inputs: vec![],
             outputs: vec![],
-            top_z: InputSignal::constant(hd),
-            top_vz: InputSignal::constant(0.0),
+            plate: PlateInput::at_rest(hd),
             initialized: false,
+            trial: None,
             t: 0.0,
             height: hd,
             point: Point::default(),
@@ -291,22 +291,27 @@ impl AirSpringTable {
         })
     }
 
-    /// `∂z/∂top.vz` of the plate position the force refers to: the time since `top.z` was set
-    /// when the position is advanced with the velocity input (no position derivatives given),
-    /// else 0 ([`prescribed`]).
-    fn velocity_lever(&self) -> f64 {
-        if self.top_z.interpolated {
-            0.0
-        } else {
-            self.t - self.top_z.t_ref
+    /// The plate height and the gas state at `t` (solved once per time and kept as the
+    /// step's trial).
+    fn trial_at(&mut self, t: f64) -> Result<(f64, Point), ModelError> {
+        let z = self.plate.motion(t).0;
+        if let Some((tt, zz, p)) = self.trial
+            && tt == t
+            && zz == z
+        {
+            return Ok((z, p));
         }
+        let dt = self.initialized.then(|| (t - self.t).max(0.0));
+        let p = self.solve(z, dt).map_err(|_| ModelError::NonFinite)?;
+        self.trial = Some((t, z, p));
+        Ok((z, p))
     }
 
     fn value(&self, o: Output) -> f64 {
         let e = self.gas.committed();
         match o {
             Output::TopFz => {
-                let z = prescribed(&self.top_z, &self.top_vz, self.t).0;
+                let z = self.plate.motion(self.t).0;
                 self.point.force + self.point.dfdz * (z - self.height)
             }
             Output::Pressure => e.p_abs,
@@ -342,10 +347,13 @@ impl MechanicalSystem for AirSpringTable {
         &[]
     }
 
-    /// No mechanical coordinates: the table has no inertia and no shape.
+    /// No mechanical coordinates (the table has no inertia and no shape): the gas is solved
+    /// for the plate at `t` here, so that a height where it has no state (a table extrapolated
+    /// to a non-positive volume, a non-converged pressure) fails the step, which is then cut
+    /// or discarded with the state rolled back; [`Model::accept`] commits this trial.
     fn residual(
         &mut self,
-        _t: f64,
+        t: f64,
         _q: &[f64],
         _v: &[f64],
         _a: &[f64],
@@ -353,7 +361,7 @@ impl MechanicalSystem for AirSpringTable {
         _r: &mut [f64],
         _jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        Ok(())
+        self.trial_at(t).map(|_| ())
     }
 
     fn midpoint_residual(
@@ -373,10 +381,7 @@ impl MechanicalSystem for AirSpringTable {
 
 impl Model for AirSpringTable {
     fn set_input(&mut self, input: usize, value: f64) {
-        match self.inputs[input] {
-            Input::TopZ => self.top_z.set(value, self.t),
-            Input::TopVz => self.top_vz.set(value, self.t),
-        }
+        self.plate.set(self.inputs[input], value, self.t);
     }
 
     fn set_input_derivative(
@@ -385,10 +390,7 @@ impl Model for AirSpringTable {
         order: usize,
         value: f64,
     ) -> Result<(), String> {
-        match self.inputs[input] {
-            Input::TopZ => self.top_z.set_derivative(order, value),
-            Input::TopVz => self.top_vz.set_derivative(order, value),
-        }
+        self.plate.set_derivative(self.inputs[input], order, value);
         Ok(())
     }
 
@@ -398,8 +400,8 @@ impl Model for AirSpringTable {
 
     fn output_derivative(&self, output: usize) -> Option<f64> {
         match self.outputs[output] {
-            Output::Height => Some(self.top_vz.value),
-            Output::TopFz => Some(self.point.dfdz * self.top_vz.value),
+            Output::Height => Some(self.plate.motion(self.t).1),
+            Output::TopFz => Some(self.point.dfdz * self.plate.motion(self.t).1),
             _ => None,
         }
     }
@@ -407,22 +409,19 @@ impl Model for AirSpringTable {
     fn output_input_derivative(&mut self, output: usize, input: usize) -> Option<f64> {
         match (self.outputs[output], self.inputs[input]) {
             (Output::TopFz, Input::TopZ) => Some(self.point.dfdz),
-            (Output::TopFz, Input::TopVz) => Some(self.point.dfdz * self.velocity_lever()),
+            (Output::TopFz, Input::TopVz) => {
+                Some(self.point.dfdz * self.plate.velocity_lever(self.t))
+            }
             _ => None,
         }
     }
 
-    /// Steps the gas to the new plate height (at rest for the first state).
+    /// Steps the gas to the new plate height (at rest for the first state): the trial the
+    /// residual of the step solved.
     fn accept(&mut self, state: &mut DynState) {
         let dt = (state.t - self.t).max(0.0);
-        let (z, _, _) = prescribed(&self.top_z, &self.top_vz, state.t);
-        let point = if self.initialized {
-            self.solve(z, Some(dt))
-        } else {
-            self.solve(z, None)
-        };
-        let Ok(point) = point else {
-            // keeps the last state: the outputs stay finite; the next step retries
+        let Ok((z, point)) = self.trial_at(state.t) else {
+            // the residual at this time succeeded, so its trial exists; nothing to commit
             return;
         };
         let committed = if self.initialized {
@@ -446,8 +445,7 @@ impl Model for AirSpringTable {
 
     fn save(&self, w: &mut StateWriter) -> Result<(), String> {
         w.f64(self.t);
-        self.top_z.save(w);
-        self.top_vz.save(w);
+        self.plate.save(w);
         w.bool(self.initialized);
         for x in [
             self.height,
@@ -467,8 +465,8 @@ impl Model for AirSpringTable {
     fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
         let e = |e: crate::snapshot::SnapshotError| e.to_string();
         self.t = r.f64().map_err(e)?;
-        self.top_z = InputSignal::restore(r).map_err(e)?;
-        self.top_vz = InputSignal::restore(r).map_err(e)?;
+        self.plate = PlateInput::restore(r).map_err(e)?;
+        self.trial = None;
         self.initialized = r.bool().map_err(e)?;
         for x in [
             &mut self.height,
