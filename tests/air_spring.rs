@@ -331,3 +331,69 @@ fn contoured_piston_makes_the_effective_area_grow_with_compression() {
     }
     assert!(areas.windows(2).all(|w| w[1] > w[0]), "{areas:?}");
 }
+
+/// The energy law of the gas through the membrane level: with `gas.heat_transfer` = 0 it is the
+/// adiabatic law (the polytropic law with n = γ = 1.4, same force along a sine of the plate to
+/// 1e-9), and with a large heat transfer it follows the isothermal law (n = 1) in a slow
+/// motion; the temperature rises under adiabatic compression as T V^(γ−1) = const.
+#[test]
+fn energy_law_reduces_to_adiabatic_and_isothermal() {
+    let scene = Scene::from_toml(&axisym_text()).unwrap();
+    let run = |overrides: &[(&str, Value)], freq: f64, amp: f64| {
+        let mut sim = simulation(&scene, overrides).unwrap();
+        let iz = common::input_index(&scene, "top.z");
+        let iv = common::input_index(&scene, "top.vz");
+        let w = 2.0 * std::f64::consts::PI * freq;
+        let mut out = vec![];
+        let n = (0.25 / freq / 1e-3).round() as usize; // a quarter period: compression
+        for k in 0..n {
+            let t = k as f64 * 1e-3;
+            sim.set_input(iz, 0.25 - amp * (w * t).sin());
+            sim.set_input(iv, -amp * w * (w * t).cos());
+            sim.advance(t + 1e-3).unwrap();
+            out.push((
+                output(&scene, &sim, "top.fz"),
+                output(&scene, &sim, "gas.temperature"),
+                output(&scene, &sim, "gas.volume"),
+            ));
+        }
+        out
+    };
+    let energy = |h: f64| {
+        vec![
+            ("gas.model", Value::Integer(2)),
+            ("gas.heat_transfer", Value::Real(h)),
+        ]
+    };
+    // adiabatic
+    let a = run(&energy(0.0), 2.0, 0.02);
+    let p = run(&[("gas.polytropic_exponent", Value::Real(1.4))], 2.0, 0.02);
+    let worst = a
+        .iter()
+        .zip(&p)
+        .map(|(x, y)| (x.0 / y.0 - 1.0).abs())
+        .fold(0.0, f64::max);
+    println!("energy law h = 0 against polytropic n = 1.4: worst force difference {worst:.2e}");
+    assert!(worst < 1e-9);
+    let (t0, v0) = (293.15, a[0].2);
+    let (t1, v1) = (a.last().unwrap().1, a.last().unwrap().2);
+    assert!(t1 > t0 + 5.0, "compression heats the gas: {t1} K");
+    let inv = |t: f64, v: f64| t * v.powf(0.4);
+    println!("T V^0.4: {:.6e} -> {:.6e}", inv(t0, v0), inv(t1, v1));
+    // the first state is one step in: compare from there
+    assert!((inv(a[0].1, a[0].2) / inv(t1, v1) - 1.0).abs() < 1e-9);
+    // isothermal in a slow motion with a strong heat transfer
+    let i = run(&energy(1e6), 0.05, 0.02);
+    let p1 = run(&[("gas.polytropic_exponent", Value::Real(1.0))], 0.05, 0.02);
+    let worst = i
+        .iter()
+        .zip(&p1)
+        .map(|(x, y)| (x.0 / y.0 - 1.0).abs())
+        .fold(0.0, f64::max);
+    let t_dev = i.iter().map(|x| (x.1 - 293.15).abs()).fold(0.0, f64::max);
+    println!(
+        "energy law h = 1e6 W/K against polytropic n = 1: worst force difference {worst:.2e}, temperature within {t_dev:.2e} K"
+    );
+    assert!(worst < 1e-4);
+    assert!(t_dev < 1e-2);
+}
