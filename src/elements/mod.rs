@@ -9,6 +9,7 @@
 
 pub mod ancf_cable2d;
 pub mod ancf_shear2d;
+pub mod axisym_bending;
 pub mod axisym_membrane;
 pub mod conformance;
 pub mod cord_rubber;

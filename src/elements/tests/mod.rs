@@ -4,6 +4,7 @@
 
 mod ancf_cable2d;
 mod ancf_shear2d;
+mod axisym_bending;
 mod axisym_membrane;
 mod corotational3d;
 mod trapezoid_shell;

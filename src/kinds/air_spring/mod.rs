@@ -282,6 +282,13 @@ pub struct BellowsSection {
     /// `bellows.tension_only`: cords carry no compression.
     #[serde(default = "BellowsSection::tension_only")]
     pub tension_only: bool,
+    /// `bellows.bending_stiffness` [N m] of the wall along the meridian (rotation-free hinges);
+    /// default 0, a pure membrane as in the reference spring of issue 11. The rubber's own is
+    /// `matrix_stiffness · thickness² / 12` (`E t³/12`, 0.027 N m for the reference wall); its
+    /// effect on the characteristic is measured (tests/air_spring.rs) but not validated
+    /// against a reference with bending, hence not the default.
+    #[serde(default = "BellowsSection::bending_stiffness")]
+    pub bending_stiffness: Option<f64>,
 }
 defaults!(BellowsSection {
     sleeve_radius: f64 = 0.125,
@@ -293,7 +300,15 @@ defaults!(BellowsSection {
     thickness: f64 = 0.004,
     density: f64 = 1100.0,
     tension_only: bool = false,
+    bending_stiffness: Option<f64> = None,
 });
+
+impl BellowsSection {
+    /// The bending stiffness [N m]: the given one, else 0.
+    pub fn bending(&self) -> f64 {
+        self.bending_stiffness.unwrap_or(0.0)
+    }
+}
 
 /// `[spring]`.
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]

@@ -33,6 +33,7 @@ use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_fi
 use crate::contact::ContactPointSet;
 use crate::contact::circle_friction::ContactLaw;
 use crate::contact::revolution::AxisymObstacle;
+use crate::elements::axisym_bending::AxisymHinge;
 use crate::elements::axisym_membrane::{AxisymMembrane, frustum_volume};
 use crate::elements::cord_rubber::CordRubberWall;
 use crate::gas::Gas;
@@ -61,6 +62,8 @@ enum Pressure {
 struct Mech {
     asm: Assembly,
     elements: ElementSet<AxisymMembrane, 4>,
+    /// Meridional bending hinges at the inner nodes (none for a pure membrane).
+    hinges: Option<ElementSet<AxisymHinge, 6>>,
     contact: ContactPointSet<AxisymObstacle, 2, 2, 5>,
     scales: Vec<f64>,
 }
@@ -69,6 +72,7 @@ impl Mech {
     fn new(
         n_el: usize,
         element: AxisymMembrane,
+        hinge: Option<AxisymHinge>,
         constrained: &[bool],
         law: ContactLaw,
         obstacles: Vec<AxisymObstacle>,
@@ -87,7 +91,15 @@ impl Mech {
             .collect();
         let flat4: Vec<usize> = el_dofs.iter().flatten().copied().collect();
         let flat5: Vec<usize> = blocks.iter().flatten().copied().collect();
-        let asm = Assembly::new(dofs, &[(4, &flat4), (5, &flat5)], &[]);
+        let hinge_dofs: Vec<[usize; 6]> = match hinge {
+            Some(_) => (1..n_el)
+                .map(|k| std::array::from_fn(|i| 2 * (k - 1) + i))
+                .collect(),
+            None => vec![],
+        };
+        let flat6: Vec<usize> = hinge_dofs.iter().flatten().copied().collect();
+        let asm = Assembly::new(dofs, &[(4, &flat4), (5, &flat5), (6, &flat6)], &[]);
+        let hinges = hinge.map(|h| ElementSet::new(vec![h], hinge_dofs, &asm));
         // two points per element (more do not change the characteristic: measured with 4, 8)
         let np = 2usize;
         let w = 2.0 * std::f64::consts::PI * element.radius[0] * element.length / np as f64;
@@ -105,6 +117,7 @@ impl Mech {
         Self {
             asm,
             elements,
+            hinges,
             contact,
             scales: vec![scale; n_free],
         }
@@ -276,9 +289,13 @@ impl AirSpring {
         for i in [0, 1, 2 * n_el, 2 * n_el + 1, 2 * n_nodes, 2 * n_nodes + 1] {
             constrained[i] = true;
         }
+        let d = p.real(BELLOWS_BENDING_STIFFNESS);
+        let ell = length / n_el as f64;
+        let hinge = (d > 0.0).then(|| AxisymHinge::new(d, r0, [ell, ell]));
         let main = Mech::new(
             n_el,
             element.clone(),
+            hinge.clone(),
             &constrained,
             law,
             obstacles.clone(),
@@ -286,7 +303,7 @@ impl AirSpring {
         );
         constrained[1] = false;
         constrained[2 * n_nodes + 1] = false;
-        let ext = Mech::new(n_el, element, &constrained, law, obstacles, length);
+        let ext = Mech::new(n_el, element, hinge, &constrained, law, obstacles, length);
         let n_ext = ext.asm.dofs.n_free();
         // start shape: a lobe of outer radius a fifth of the bead–piston gap beyond the bead
         let start = rolling_lobe_start(
@@ -653,9 +670,12 @@ impl AirSpring {
             a,
             g: Vector3::zeros(),
         };
-        let u = mech
-            .elements
-            .add_residual(&x, None, f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+        let mut u =
+            mech.elements
+                .add_residual(&x, None, f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+        if let Some(h) = &mech.hinges {
+            u += h.add_residual(&x, None, f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+        }
         for i in 0..f.len() {
             f[i] -= p_g * grad[i];
         }
@@ -855,7 +875,12 @@ impl AirSpring {
         self.scratch = [qf, vf, r];
         res?;
         let n_nodes = self.n_el + 1;
-        self.strain = self.main.elements.strain_energy(&self.work.q, None);
+        self.strain = self.main.elements.strain_energy(&self.work.q, None)
+            + self
+                .main
+                .hinges
+                .as_ref()
+                .map_or(0.0, |h| h.strain_energy(&self.work.q, None));
         self.kinetic = self
             .main
             .elements

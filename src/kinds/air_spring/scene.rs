@@ -83,6 +83,8 @@ pub mod names {
     pub const BELLOWS_DENSITY: &str = "bellows.density";
     /// Tension-only cords (Boolean).
     pub const BELLOWS_TENSION_ONLY: &str = "bellows.tension_only";
+    /// Meridional bending stiffness [N m].
+    pub const BELLOWS_BENDING_STIFFNESS: &str = "bellows.bending_stiffness";
     /// Design height [m].
     pub const SPRING_DESIGN_HEIGHT: &str = "spring.design_height";
     /// Design gauge pressure [Pa].
@@ -355,6 +357,13 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
             Unit::KgPerM3,
             "Wall density",
             Check::Positive,
+        ),
+        real(
+            BELLOWS_BENDING_STIFFNESS,
+            s.bellows.bending(),
+            Unit::NM,
+            "Meridional bending stiffness D of the wall (rotation-free hinges at the nodes); 0 = a pure membrane (default); the rubber's own is matrix_stiffness * thickness^2 / 12",
+            Check::NonNegative,
         ),
         ParamDef::new(
             BELLOWS_TENSION_ONLY,
