@@ -194,6 +194,8 @@ pub struct AirSpring {
     pressure_now: f64,
     /// Mass of the wall per reference area [kg/m²].
     mass_per_area: f64,
+    /// Strain energy of the last residual evaluation [J].
+    last_strain: f64,
     /// Bag volume at the charge [m³].
     v_charge: f64,
     strain: f64,
@@ -368,6 +370,7 @@ impl AirSpring {
             height: hd,
             pressure_now: 0.0,
             mass_per_area: p.real(BELLOWS_DENSITY) * p.real(BELLOWS_THICKNESS),
+            last_strain: 0.0,
             v_charge: 0.0,
             strain: 0.0,
             kinetic: 0.0,
@@ -730,7 +733,7 @@ impl AirSpring {
         let (p_g, dp_dv) = self.pressure(mode, vm)?;
         let check = jac.is_some();
         let mut jac = jac;
-        Self::assemble_full(
+        self.last_strain = Self::assemble_full(
             &mut self.main,
             self.n_el,
             &mut self.work,
@@ -875,12 +878,8 @@ impl AirSpring {
         self.scratch = [qf, vf, r];
         res?;
         let n_nodes = self.n_el + 1;
-        self.strain = self.main.elements.strain_energy(&self.work.q, None)
-            + self
-                .main
-                .hinges
-                .as_ref()
-                .map_or(0.0, |h| h.strain_energy(&self.work.q, None));
+        // the strain energy of the residual just evaluated (elements and hinges)
+        self.strain = self.last_strain;
         self.kinetic = self
             .main
             .elements
