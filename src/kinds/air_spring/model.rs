@@ -27,7 +27,7 @@
 //! coordinates, solved on a second assembly where they are free.
 
 use super::scene::{Input, Output, io, names::*, piston_contour};
-use super::table::{gas_error, gas_params};
+use super::table::{gas_error, gas_output, gas_params};
 use super::{AirSpringScene, PlateInput};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::ContactPointSet;
@@ -420,8 +420,7 @@ impl AirSpring {
             None,
         )
         .map_err(|e| e.to_string())?;
-        let n_nodes = self.n_el + 1;
-        let force = -(self.work.f[1] + self.work.f[2 * n_nodes + 1]);
+        let force = self.plate_force();
         let vm = volume_gradient(self.n_el, &self.q, &mut self.work.grad);
         Ok((force, vm + self.gas.params().inner_volume))
     }
@@ -601,30 +600,39 @@ impl AirSpring {
     /// Full coordinates from free ones with the prescribed values of the committed plate.
     fn expand(&self, free: &[f64], full: &mut [f64]) {
         self.main.asm.dofs.expand(free, full);
+        self.prescribe(full, self.q[1]);
+    }
+
+    /// Sets the prescribed coordinates of full coordinates `full`: bead and clamp nodes, the
+    /// piston at 0 and the plate (and the bead's z) at the height `z` [m].
+    fn prescribe(&self, full: &mut [f64], z: f64) {
         let n_nodes = self.n_el + 1;
         full[0] = self.bead_radius;
-        full[1] = self.q[1];
+        full[1] = z;
         full[2 * self.n_el] = self.clamp[0];
         full[2 * self.n_el + 1] = self.clamp[1];
         full[2 * n_nodes] = 0.0;
-        full[2 * n_nodes + 1] = self.q[1];
+        full[2 * n_nodes + 1] = z;
+    }
+
+    /// The force on the plate [N] of the residual in the work vectors: minus the residual at
+    /// the bead's z and at the plate coordinate (gas on the plate, membrane, plate contact).
+    fn plate_force(&self) -> f64 {
+        -(self.work.f[1] + self.work.f[2 * (self.n_el + 1) + 1])
     }
 
     /// Fills the work vectors with the full state at `t` from free `q`, `v`, `a`.
     fn fill_work(&mut self, t: f64, lambda: f64, q: &[f64], v: &[f64], a: &[f64]) {
         let (z, vz, az) = self.plate_motion(t, lambda);
         let n_nodes = self.n_el + 1;
+        let mut full = std::mem::take(&mut self.work.q);
+        self.main.asm.dofs.expand(q, &mut full);
+        self.prescribe(&mut full, z);
+        self.work.q = full;
         let d = &self.main.asm.dofs;
         let w = &mut self.work;
-        d.expand(q, &mut w.q);
         d.expand(v, &mut w.v);
         d.expand(a, &mut w.a);
-        w.q[0] = self.bead_radius;
-        w.q[1] = z;
-        w.q[2 * self.n_el] = self.clamp[0];
-        w.q[2 * self.n_el + 1] = self.clamp[1];
-        w.q[2 * n_nodes] = 0.0;
-        w.q[2 * n_nodes + 1] = z;
         for x in [&mut w.v, &mut w.a] {
             for i in [0, 2 * self.n_el, 2 * self.n_el + 1, 2 * n_nodes] {
                 x[i] = 0.0;
@@ -877,17 +885,19 @@ impl AirSpring {
         let res = self.evaluate_filled(Pressure::Step(0.0), &mut r, None);
         self.scratch = [qf, vf, r];
         res?;
-        let n_nodes = self.n_el + 1;
         // the strain energy of the residual just evaluated (elements and hinges)
         self.strain = self.last_strain;
         self.kinetic = self
             .main
             .elements
             .kinetic_energy(&self.work.q, &self.work.v, None);
-        Ok(-(self.work.f[1] + self.work.f[2 * n_nodes + 1]))
+        Ok(self.plate_force())
     }
 
     fn value(&self, o: Output) -> f64 {
+        if let Some(v) = gas_output(o, &self.gas, self.v_charge) {
+            return v;
+        }
         let e = self.gas.committed();
         match o {
             Output::TopFz => {
@@ -898,11 +908,6 @@ impl AirSpring {
                     self.force + self.condensed().map_or(0.0, |c| c.dfdh) * dz
                 }
             }
-            Output::Pressure => e.p_abs,
-            Output::PressureGauge => e.p_gauge,
-            Output::Volume => e.volume,
-            Output::Temperature => e.temperature,
-            Output::Mass => e.mass,
             Output::Height => self.height,
             Output::EffectiveArea => {
                 if e.p_gauge != 0.0 {
@@ -914,14 +919,12 @@ impl AirSpring {
             Output::VolumetricArea => self.condensed().map_or(f64::NAN, |c| c.dvdh),
             Output::Stiffness => self.condensed().map_or(f64::NAN, |c| -c.dfdh),
             Output::LobeRadius => self.lobe_radius(),
-            Output::ReservoirPressure => e.reservoir_pressure,
             Output::StrainEnergy => self.strain,
             Output::KineticEnergy => self.kinetic,
-            Output::GasEnergy => {
-                e.internal_energy + self.gas.params().ambient_pressure * (e.volume - self.v_charge)
-            }
             Output::PlateWork => self.plate_work,
             Output::Dissipated => e.heat_out + e.loss_work + self.contact_loss,
+            // the gas's outputs are above
+            _ => f64::NAN,
         }
     }
 }

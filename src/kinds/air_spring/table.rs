@@ -141,6 +141,25 @@ pub(super) fn gas_error(e: impl std::fmt::Display, p: &GasParams) -> String {
     format!("{e} (the gas follows from {})", keys.join(", "))
 }
 
+/// The outputs that only the gas decides (every level): pressures, volume, temperature, mass,
+/// the reservoir's pressure and the gas energy relative to the ambient (`U + p_a (V − V_charge)`,
+/// `v_charge` [m³] the bag volume at the charge); `None` for the others.
+pub(super) fn gas_output(o: Output, gas: &Gas, v_charge: f64) -> Option<f64> {
+    let e = gas.committed();
+    Some(match o {
+        Output::Pressure => e.p_abs,
+        Output::PressureGauge => e.p_gauge,
+        Output::Volume => e.volume,
+        Output::Temperature => e.temperature,
+        Output::Mass => e.mass,
+        Output::ReservoirPressure => e.reservoir_pressure,
+        Output::GasEnergy => {
+            e.internal_energy + gas.params().ambient_pressure * (e.volume - v_charge)
+        }
+        _ => return None,
+    })
+}
+
 /// The state of the table model at one height and pressure.
 #[derive(Clone, Copy, Debug, Default)]
 struct Point {
@@ -308,28 +327,23 @@ impl AirSpringTable {
     }
 
     fn value(&self, o: Output) -> f64 {
+        if let Some(v) = gas_output(o, &self.gas, self.v_charge) {
+            return v;
+        }
         let e = self.gas.committed();
         match o {
             Output::TopFz => {
                 let z = self.plate.motion(self.t).0;
                 self.point.force + self.point.dfdz * (z - self.height)
             }
-            Output::Pressure => e.p_abs,
-            Output::PressureGauge => e.p_gauge,
-            Output::Volume => e.volume,
-            Output::Temperature => e.temperature,
-            Output::Mass => e.mass,
             Output::Height => self.height,
             Output::EffectiveArea => self.area.eval(self.height).0,
             Output::VolumetricArea => self.point.dvdz,
             Output::Stiffness => -self.point.dfdz,
-            Output::ReservoirPressure => e.reservoir_pressure,
-            Output::GasEnergy => {
-                e.internal_energy + self.gas.params().ambient_pressure * (e.volume - self.v_charge)
-            }
             Output::PlateWork => self.plate_work,
             Output::Dissipated => e.heat_out + e.loss_work,
-            Output::LobeRadius | Output::StrainEnergy | Output::KineticEnergy => f64::NAN,
+            // gas outputs are above; the membrane's do not exist at this level
+            _ => f64::NAN,
         }
     }
 }
