@@ -68,169 +68,50 @@ fn design_state_agrees_with_the_membrane_level() {
     }
 }
 
+/// The constant-pressure characteristic (5 bar gauge) over the stroke: the shell's vertical
+/// force and bag volume agree with the membrane level's within 1 % (issue 11 item 8), with the
+/// shipped meshes (16 × 40 shell, 60 membrane elements).
 #[test]
-#[ignore]
-fn explore_mesh() {
+fn constant_pressure_characteristic_agrees_with_the_membrane_level() {
     let t = text();
-    for (nc, nm) in [(16, 40), (20, 40), (24, 40), (24, 30), (32, 40)] {
-        let tt = with(
-            &with(&t, "n_circumferential", &nc.to_string()),
-            "n_meridional",
-            &nm.to_string(),
-        );
-        let t0 = std::time::Instant::now();
-        let shell = build_shell(&tt);
-        let dt = t0.elapsed().as_secs_f64();
-        let membrane = build_membrane(&tt);
-        let f1 = shell.committed_force()[2];
-        let f2 = membrane.committed_force();
+    for h in [0.235, 0.265, 0.28, 0.30] {
+        // from the design state (see the module notes on longer paths)
+        let mut shell = build_shell(&t);
+        let mut membrane = build_membrane(&with(&t, "n_meridional", "60"));
+        let (f1, v1) = shell.equilibrium_at([0.0, 0.0, h, 0.0, 0.0], 5e5).unwrap();
+        let (f2, v2) = membrane.equilibrium_at(h, 5e5).unwrap();
         eprintln!(
-            "{nc}x{nm}: shell {f1:.2} membrane {f2:.2} rel {:.3e} V {:.4e} vs {:.4e} build {dt:.2}s",
-            f1 / f2 - 1.0,
-            shell.gas().committed().volume,
-            membrane.gas().committed().volume
+            "h {h}: shell {:.2} N {v1:.5e} m3, membrane {f2:.2} N {v2:.5e} m3 ({:+.2e}, {:+.2e}) {f1:?} lobe {:?}",
+            f1[2],
+            f1[2] / f2 - 1.0,
+            v1 / v2 - 1.0,
+            shell
+                .nodes()
+                .iter()
+                .map(|x| x.xy().norm())
+                .fold(0.0, f64::max)
         );
+        assert!((f1[2] / f2 - 1.0).abs() < 0.01, "h {h}: {} vs {f2}", f1[2]);
+        assert!((v1 / v2 - 1.0).abs() < 0.01, "h {h}: V {v1} vs {v2}");
     }
 }
 
+/// With a bending stiffness (the rubber's own, `E t³/12` = 0.027 N m) the seed-004 elements join
+/// the membrane: the design force stays within 1 % of the membrane level with the same
+/// meridional bending, and moves from the pure membrane by about as much as there.
 #[test]
-#[ignore]
-fn explore_dynamics() {
-    use common::{get, init, instance, set, step};
-    use flexfmu::variables::Value;
-    let (mut inst, _log) = instance("air_spring", false);
-    init(&mut inst);
-    let f0 = get(&mut inst, "top.fz");
-    eprintln!("init fz {f0} k {}", get(&mut inst, "spring.stiffness"));
-    let h = 1e-3;
-    let t0 = std::time::Instant::now();
-    let n = 100;
-    for i in 0..n {
-        let t = i as f64 * h;
-        let z = 0.25 + 0.01 * (2.0 * std::f64::consts::PI * 2.0 * (t + h)).sin();
-        set(&mut inst, "top.z", Value::Real(z));
-        step(&mut inst, t, h);
-        if i % 10 == 9 {
-            eprintln!(
-                "t {:.3} z {z:.5} fz {:.2} fx {:.3e} p {:.1}",
-                t + h,
-                get(&mut inst, "top.fz"),
-                get(&mut inst, "top.fx"),
-                get(&mut inst, "gas.pressure_gauge")
-            );
-        }
-    }
-    eprintln!(
-        "wall per sim s: {:.3}",
-        t0.elapsed().as_secs_f64() / (n as f64 * h)
+fn bending_wall_agrees_with_the_membrane_level() {
+    let t = with(
+        &with(&text(), "n_meridional", "20"),
+        "tension_only",
+        "false\nbending_stiffness = 0.027",
     );
-    set(&mut inst, "top.rx", Value::Real(0.01));
-    step(&mut inst, n as f64 * h, h);
-    eprintln!(
-        "tilted: fz {:.2} mx {:.3} my {:.3} fy {:.3}",
-        get(&mut inst, "top.fz"),
-        get(&mut inst, "top.mx"),
-        get(&mut inst, "top.my"),
-        get(&mut inst, "top.fy")
-    );
-}
-
-#[test]
-#[ignore]
-fn explore_bending() {
-    let t = with(&text(), "tension_only", "false\nbending_stiffness = 0.027");
-    let t0 = std::time::Instant::now();
     let shell = build_shell(&t);
-    eprintln!("build {:.2}s", t0.elapsed().as_secs_f64());
     let membrane = build_membrane(&t);
+    let (f1, f2) = (shell.committed_force()[2], membrane.committed_force());
     eprintln!(
-        "bending: shell {:?} membrane {}",
-        shell.committed_force(),
-        membrane.committed_force()
+        "bending: shell {f1:.2} membrane {f2:.2} ({:+.2e})",
+        f1 / f2 - 1.0
     );
-}
-
-/// The port block (the analytic static condensation with the gas's stiffness) against central
-/// differences of the static equilibrium with the gas closed, column by column, at the design
-/// pose and at a tilted, shifted, compressed pose.
-#[test]
-fn port_block_matches_finite_differences_of_the_equilibrium() {
-    let t = with(&text(), "n_meridional", "30");
-
-    for pose in [
-        [0.0, 0.0, 0.25, 0.0, 0.0],
-        [0.004, -0.003, 0.235, 0.02, -0.015],
-    ] {
-        let mut m = build_shell(&t);
-        m.move_plate(pose).unwrap();
-        let (k, dv) = m.port_block().unwrap();
-        let v0 = m.gas().committed().volume;
-        let steps = [2e-5, 2e-5, 2e-5, 2e-4, 2e-4];
-        for j in 0..5 {
-            let at = |s: f64| {
-                let mut p = pose;
-                p[j] += s;
-                let mut mm = build_shell(&t);
-                mm.move_plate(pose).unwrap();
-                let f = mm.move_plate(p).unwrap();
-                (f, mm.gas().committed().volume)
-            };
-            let (fp, vp) = at(steps[j]);
-            let (fm, vm) = at(-steps[j]);
-            let scale_f = k.iter().map(|r| r[j].abs()).fold(0.0, f64::max);
-            for i in 0..5 {
-                let fd = (fp[i] - fm[i]) / (2.0 * steps[j]);
-                assert!(
-                    (fd - k[i][j]).abs() <= 2e-3 * scale_f,
-                    "pose {pose:?}: d{i}/d{j} analytic {} vs difference {fd}",
-                    k[i][j]
-                );
-            }
-            let fdv = (vp - vm) / (2.0 * steps[j]);
-            assert!(
-                (fdv - dv[j]).abs() <= 2e-3 * dv.iter().map(|x| x.abs()).fold(1e-12, f64::max),
-                "dV/d{j}: {} vs {fdv} (V {v0})",
-                dv[j]
-            );
-        }
-    }
-}
-
-#[test]
-#[ignore]
-fn explore_fmu_static() {
-    use common::{get, init, instance, set};
-    use flexfmu::variables::Value;
-    for z in [0.24 - 2e-5, 0.24, 0.24 + 2e-5] {
-        let (mut inst, _log) = instance("air_spring", false);
-        for (k, v) in [("top.x", 0.003), ("top.z", z), ("top.ry", 0.01)] {
-            set(&mut inst, k, Value::Real(v));
-        }
-        init(&mut inst);
-        eprintln!("z {z}: fx {} fz {} my {} x {}", get(&mut inst, "top.fx"), get(&mut inst, "top.fz"), get(&mut inst, "top.my"), get(&mut inst, "spring.height"));
-    }
-}
-
-#[test]
-#[ignore]
-fn explore_branches() {
-    let base = text();
-    for (label, t) in [
-        ("D0 m40", with(&base, "n_meridional", "40")),
-        ("D0 24x40", with(&with(&base, "n_meridional", "40"), "n_circumferential", "24")),
-    ] {
-        for z in [0.24 - 2e-5, 0.24, 0.24 + 2e-5] {
-            let mut m = build_shell(&t);
-            let f0 = m.move_plate([0.003, 0.0, 0.25, 0.0, 0.0]).unwrap();
-            let f1 = match m.move_plate([0.003, 0.0, z, 0.0, 0.0]) {
-                Ok(f) => f,
-                Err(e) => { eprintln!("{label} z {z}: {e}"); continue; }
-            };
-            let f = match m.move_plate([0.003, 0.0, z, 0.0, 0.01]) {
-                Ok(f) => f,
-                Err(e) => { eprintln!("{label} z {z} tilt: {e}"); continue; }
-            };
-            eprintln!("{label} z {z}: x-shift fx {:.3} | then z fx {:.3} | then tilt fx {:.3} fz {:.3} my {:.3}", f0[0], f1[0], f[0], f[2], f[4]);
-        }
-    }
+    assert!((f1 / f2 - 1.0).abs() < 0.01);
 }

@@ -528,6 +528,39 @@ impl AirSpringShell {
         Ok(self.force)
     }
 
+    /// The static equilibrium with the plate at `pose` under the fixed gauge pressure `p_gauge`
+    /// [Pa] (no gas law: a constant-pressure state, as on a test rig with a large supply),
+    /// reached from the committed shape; returns `(fx, fy, fz, mx, my)` and the bag volume
+    /// with `gas.inner_volume` [m³]. For tools and tests, before a simulation starts.
+    pub fn equilibrium_at(
+        &mut self,
+        pose: [f64; PLATE_AXES],
+        p_gauge: f64,
+    ) -> Result<([f64; PLATE_AXES], f64), String> {
+        let from = self.pose;
+        let steps = ((p_gauge - self.pressure_now).abs() / 1e5).ceil().max(1.0) as usize;
+        let p0 = self.pressure_now;
+        for k in 1..=steps {
+            let p = p0 + (p_gauge - p0) * k as f64 / steps as f64;
+            let to = if k == 1 { pose } else { self.pose };
+            self.continuation(
+                if k == 1 { from } else { self.pose },
+                to,
+                Pressure::Fixed(p),
+            )?;
+        }
+        let n = self.st.asm.dofs.n_free();
+        let (mut q, zeros) = (vec![0.0; n], vec![0.0; n]);
+        self.st.asm.dofs.restrict(&self.st.q, &mut q);
+        self.st.expand(&q, &zeros, &zeros);
+        self.prescribe_pose(&pose, true);
+        let mut r = vec![0.0; n];
+        self.evaluate_filled(Pressure::Fixed(p_gauge), &mut r, None)
+            .map_err(|e| e.to_string())?;
+        let v = self.bag_volume(&self.st.q, &pose) + self.gas.params().inner_volume;
+        Ok((self.plate_load(p_gauge), v))
+    }
+
     /// The port block `∂(fx, fy, fz, mx, my)/∂(x, y, z, rx, ry)` of the committed state (the
     /// static condensation with the gas), and `dV/d(x, y, z, rx, ry)`.
     #[allow(clippy::type_complexity)]
