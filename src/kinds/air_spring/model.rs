@@ -650,8 +650,8 @@ impl AirSpring {
         match mode {
             Pressure::Fixed(p) => Ok((p, 0.0)),
             Pressure::Step(dt) => {
-                let e = self.gas.evaluate(dt, vm).map_err(bad)?;
-                Ok((e.p_gauge, e.dp_dv))
+                let (p, dp_dv) = self.gas.pressure(dt, vm).map_err(bad)?;
+                Ok((p - self.ambient, dp_dv))
             }
             Pressure::Static => {
                 let (p, d) = self.gas.static_pressure(vm).map_err(bad)?;
