@@ -41,13 +41,18 @@ impl CordRubberWall {
     /// symmetry, so `λ_s`, `λ_θ` are principal stretches and both plies have the same cord
     /// stretch).
     pub fn axisym(&self, ls: f64, lt: f64) -> AxisymEnergy {
+        self.axisym_with(ls, lt, self.cord_angle.sin_cos())
+    }
+
+    /// [`CordRubberWall::axisym`] with `(sin α₀, cos α₀)` of the cord angle given (a caller
+    /// that evaluates many points keeps them).
+    pub fn axisym_with(&self, ls: f64, lt: f64, (s, c): (f64, f64)) -> AxisymEnergy {
         let et = self.matrix_stiffness;
         let mut e = AxisymEnergy {
             w: 0.5 * et * ((ls - 1.0).powi(2) + (lt - 1.0).powi(2)),
             grad: [et * (ls - 1.0), et * (lt - 1.0)],
             hess: [[et, 0.0], [0.0, et]],
         };
-        let (s, c) = self.cord_angle.sin_cos();
         let (c2, s2) = (c * c, s * s);
         let lc = (ls * ls * c2 + lt * lt * s2).sqrt();
         if lc <= 0.0 || (self.tension_only && lc <= 1.0) {
