@@ -151,7 +151,8 @@ impl Obstacle<2> for AxisymObstacle {
                     .iter()
                     .map(|p| p[0])
                     .fold(f64::NEG_INFINITY, f64::max);
-                !(a.x.min(b.x) > r_max)
+                let r = a.x.min(b.x);
+                r <= r_max || r.is_nan()
             }
             AxisymObstacle::Plate { .. } => true,
         }

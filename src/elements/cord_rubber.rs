@@ -128,7 +128,7 @@ impl SurfaceReference {
     ) -> Option<Self> {
         let (g11, g22, g12) = (g1.dot(g1), g2.dot(g2), g1.dot(g2));
         let det_g = g11 * g22 - g12 * g12;
-        if !(det_g > 0.0) {
+        if det_g.is_nan() || det_g <= 0.0 {
             return None;
         }
         let g_inv = [g22 / det_g, g11 / det_g, -g12 / det_g];
@@ -169,7 +169,7 @@ impl CordRubberWall {
             let i1 = r.g_inv[0] * c[0] + r.g_inv[1] * c[1] + 2.0 * r.g_inv[2] * c[2];
             let det_c = c[0] * c[1] - c[2] * c[2];
             let d = det_c / r.det_g;
-            if !(d > 0.0) {
+            if d.is_nan() || d <= 0.0 {
                 // a collapsed element: no finite energy (the solver rejects the state)
                 out.w = f64::NAN;
                 return out;
