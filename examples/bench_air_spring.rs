@@ -18,6 +18,12 @@
 //!    one factorization and solve, one accepted step's bookkeeping.
 //! 3. Level 3 (effective-area table) and level 1 (shell): rows to come when their scenes exist
 //!    (`scenes/air_spring_table.toml`, `scenes/air_spring.toml`); they are skipped while absent.
+//! 4. The same sine through the FMI instance (`flexfmu::instance::Instance`: what an importer
+//!    pays per communication step, without the C ABI shims): fmi2SetReal of `top.z` and
+//!    `top.vz`, fmi2DoStep, and fmi2GetReal of `top.fz` alone or of every output. The
+//!    instance computes every output after each step (its output derivatives by differences
+//!    need the previous values), so a master pays for the stiffness output (level 2: the static
+//!    condensation) whether it reads it or not.
 //!
 //! Run: `cargo run --release --example bench_air_spring [out-dir] [name=value ...]` (default
 //! `build/bench`; `name=value` overrides a parameter of the scene, e.g. `solver.rho_inf=0.9`);
@@ -27,11 +33,14 @@
 mod bench_util;
 
 use bench_util::{scene, time_it};
+use flexfmu::fmi2::state_machine::Call;
+use flexfmu::instance::Instance;
 use flexfmu::linalg::{LinearSolver, SolverKind, rank_one_len};
+use flexfmu::logging::Status;
 use flexfmu::model::{JacobianCoeffs, build_model};
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::solver::simulation::{Simulation, SolverConfig};
-use flexfmu::variables::{Role, Value, VariableTable};
+use flexfmu::variables::{Role, Value, VarType, VariableTable};
 use std::f64::consts::PI;
 use std::hint::black_box;
 use std::io::Write;
@@ -331,6 +340,84 @@ fn breakdown() {
     println!();
 }
 
+/// Wall time [s] per communication step of the sine through an FMI instance of scene `name`
+/// (parameters at their defaults except `overrides`), reading `top.fz` alone or every output:
+/// best of three runs.
+fn fmi_step_time(name: &str, overrides: &[(&str, Value)], all_outputs: bool) -> f64 {
+    let run = || {
+        let mut inst = Instance::from_scene("bench", scene(name), false, Box::new(|_, _, _| {}));
+        let vr = |inst: &Instance, n: &str| inst.variables().by_name(n).unwrap().vr;
+        let (z, vz, fz) = (vr(&inst, "top.z"), vr(&inst, "top.vz"), vr(&inst, "top.fz"));
+        let outputs: Vec<u32> = inst
+            .variables()
+            .vars()
+            .iter()
+            .filter(|v| matches!(v.role, Role::Output(_)))
+            .map(|v| v.vr)
+            .collect();
+        let read: Vec<u32> = if all_outputs { outputs } else { vec![fz] };
+        for (n, v) in overrides {
+            let r = vr(&inst, n);
+            assert_eq!(inst.set(Call::SetInteger, &[r], &[*v]), Status::Ok, "{n}");
+        }
+        assert_eq!(inst.setup_experiment(None, 0.0, None), Status::Ok);
+        assert_eq!(inst.enter_initialization_mode(), Status::Ok);
+        assert_eq!(inst.exit_initialization_mode(), Status::Ok);
+        let w = 2.0 * PI * FREQUENCY;
+        let n = (DURATION / STEP).round() as usize;
+        let mut sum = 0.0;
+        let t0 = Instant::now();
+        for k in 0..n {
+            let t = k as f64 * STEP;
+            let u = [
+                Value::Real(DESIGN_HEIGHT + AMPLITUDE * (w * t).sin()),
+                Value::Real(AMPLITUDE * w * (w * t).cos()),
+            ];
+            assert_eq!(inst.set(Call::SetReal, &[z, vz], &u), Status::Ok);
+            assert_eq!(inst.do_step(t, STEP), Status::Ok, "fmi2DoStep at t = {t}");
+            let status = inst.get(Call::GetReal, VarType::Real, &read, &mut |_, v| {
+                if let Value::Real(x) = v {
+                    sum += x;
+                }
+            });
+            assert_eq!(status, Status::Ok);
+        }
+        black_box(sum);
+        t0.elapsed().as_secs_f64() / n as f64
+    };
+    (0..3).map(|_| run()).fold(f64::INFINITY, f64::min)
+}
+
+/// The sine through the FMI instance: level 2 at 60 elements and level 3.
+fn fmi_rows() {
+    println!("## Through the FMI instance (fmi2SetReal, fmi2DoStep, fmi2GetReal), the same sine\n");
+    println!("| model | outputs read | µs per communication step | real-time factor |");
+    println!("|---|---|---:|---:|");
+    let mut cases = vec![(
+        "level 2, 60 elements",
+        "air_spring_axisym",
+        vec![("mesh.n_meridional", Value::Integer(60))],
+    )];
+    if Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/air_spring_table.toml")
+        .exists()
+    {
+        cases.push(("level 3 (table)", "air_spring_table", vec![]));
+    }
+    for (label, name, ov) in &cases {
+        for all in [false, true] {
+            let t = fmi_step_time(name, ov, all);
+            println!(
+                "| {label} | {} | {:.2} | {:.0} |",
+                if all { "all" } else { "top.fz" },
+                1e6 * t,
+                STEP / t
+            );
+        }
+    }
+    println!();
+}
+
 fn write_csv(dir: &Path, rows: &[Row]) {
     std::fs::create_dir_all(dir).unwrap();
     let path = dir.join("air_spring.csv");
@@ -364,6 +451,7 @@ fn main() {
     if root.join("air_spring_table.toml").exists() {
         level3(&mut rows);
     }
+    fmi_rows();
     if !root.join("air_spring.toml").exists() {
         println!(
             "level 1: scenes/air_spring.toml (the seed-004 shell) does not exist yet: no row\n"

@@ -261,6 +261,36 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
         }
     }
 
+    /// Subtracts the contact forces of element `e`'s points from `out`, the element's node
+    /// entries (`NV · D` values in the order of its nodal vectors), exactly as
+    /// [`Self::add_residual`] subtracts them from the element's rows of the full residual
+    /// (obstacles in order, points in order): a reaction at a few rows needs no pass over
+    /// the whole body.
+    pub fn subtract_element_forces(&self, e: usize, q: &[f64], v: &[f64], out: &mut [f64]) {
+        let no = self.obstacles.len();
+        let n_cp = self.points_per_element();
+        for k in 0..no {
+            if !self.near(e, k, q) {
+                continue;
+            }
+            let b = e * no + k;
+            for i in 0..n_cp {
+                let (p, x, xd) = self.motion(b, i, q, v);
+                let h = &self.hist[(e * n_cp + i) * no + k];
+                let Some(res) = self.obstacles[k].evaluate(&self.law, self.w, &p, &x, &xd, h)
+                else {
+                    continue;
+                };
+                let force = res.force();
+                for (a, &sa) in self.weights[i].iter().enumerate() {
+                    for c in 0..D {
+                        out[D * a + c] -= sa * force[c];
+                    }
+                }
+            }
+        }
+    }
+
     /// Commits the state at full coordinates `q`, velocities `v`: new histories, the loads
     /// on the obstacles ([`Self::loads`]) and the energy terms. `initial`: no contact is
     /// evaluated (histories at rest).

@@ -139,9 +139,23 @@ impl Obstacle<2> for AxisymObstacle {
     type History = NoHistory;
     type Contact = AxisymContact;
 
-    /// Every segment is checked (the points decide): the meridian is short.
-    fn near(&self, _a: &SVector<f64, 2>, _b: &SVector<f64, 2>) -> bool {
-        true
+    /// The piston: a segment with both ends outside the largest contour radius cannot touch
+    /// it (its points are convex combinations of the ends, and the piston's radius is at most
+    /// that largest radius at every height): skipped without evaluating its points, which
+    /// would all be out of contact. The plate (whose height is a coordinate, not known here):
+    /// every segment is checked.
+    fn near(&self, a: &SVector<f64, 2>, b: &SVector<f64, 2>) -> bool {
+        match self {
+            AxisymObstacle::Piston { contour } => {
+                let r_max = contour
+                    .iter()
+                    .map(|p| p[0])
+                    .fold(f64::NEG_INFINITY, f64::max);
+                let r = a.x.min(b.x);
+                r <= r_max || r.is_nan()
+            }
+            AxisymObstacle::Plate { .. } => true,
+        }
     }
 
     fn evaluate(

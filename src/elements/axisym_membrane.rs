@@ -41,6 +41,10 @@ pub struct AxisymMembrane {
     /// The wall law.
     pub wall: CordRubberWall,
     mass: SMatrix<f64, 4, 4>,
+    /// The cord angle [rad] of `wall` at construction with its `(sin, cos)`: the kernel uses
+    /// them while `wall.cord_angle` is unchanged (one `sin_cos` per element instead of one
+    /// per integration point and evaluation).
+    cord_trig: (f64, (f64, f64)),
 }
 
 // ------------------------------------------------------------------------- shape functions
@@ -72,6 +76,7 @@ impl AxisymMembrane {
             radius,
             wall,
             mass,
+            cord_trig: (wall.cord_angle, wall.cord_angle.sin_cos()),
         }
     }
 
@@ -107,12 +112,17 @@ impl AxisymMembrane {
         }
         let mut u = 0.0;
         let mut ws_sum = 0.0;
+        let trig = if self.cord_trig.0 == self.wall.cord_angle {
+            self.cord_trig.1
+        } else {
+            self.wall.cord_angle.sin_cos()
+        };
         for &xi in &GAUSS {
             let nn = shape(xi);
             let rr = nn[0] * self.radius[0] + nn[1] * self.radius[1];
             let lt = (nn[0] * q[0] + nn[1] * q[2]) / rr;
             let w = 2.0 * PI * rr * 0.5 * self.length;
-            let e = self.wall.axisym(ls, lt);
+            let e = self.wall.axisym_with(ls, lt, trig);
             u += w * e.w;
             // ∂λ_θ/∂q
             let b = Vector4::new(nn[0] / rr, 0.0, nn[1] / rr, 0.0);

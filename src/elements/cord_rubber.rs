@@ -43,13 +43,18 @@ impl CordRubberWall {
     /// symmetry, so `λ_s`, `λ_θ` are principal stretches and both plies have the same cord
     /// stretch).
     pub fn axisym(&self, ls: f64, lt: f64) -> AxisymEnergy {
+        self.axisym_with(ls, lt, self.cord_angle.sin_cos())
+    }
+
+    /// [`CordRubberWall::axisym`] with `(sin α₀, cos α₀)` of the cord angle given (a caller
+    /// that evaluates many points keeps them).
+    pub fn axisym_with(&self, ls: f64, lt: f64, (s, c): (f64, f64)) -> AxisymEnergy {
         let et = self.matrix_stiffness;
         let mut e = AxisymEnergy {
             w: 0.5 * et * ((ls - 1.0).powi(2) + (lt - 1.0).powi(2)),
             grad: [et * (ls - 1.0), et * (lt - 1.0)],
             hess: [[et, 0.0], [0.0, et]],
         };
-        let (s, c) = self.cord_angle.sin_cos();
         let (c2, s2) = (c * c, s * s);
         let lc = (ls * ls * c2 + lt * lt * s2).sqrt();
         if lc <= 0.0 || (self.tension_only && lc <= 1.0) {
@@ -123,7 +128,7 @@ impl SurfaceReference {
     ) -> Option<Self> {
         let (g11, g22, g12) = (g1.dot(g1), g2.dot(g2), g1.dot(g2));
         let det_g = g11 * g22 - g12 * g12;
-        if !(det_g > 0.0) {
+        if det_g.is_nan() || det_g <= 0.0 {
             return None;
         }
         let g_inv = [g22 / det_g, g11 / det_g, -g12 / det_g];
@@ -164,7 +169,7 @@ impl CordRubberWall {
             let i1 = r.g_inv[0] * c[0] + r.g_inv[1] * c[1] + 2.0 * r.g_inv[2] * c[2];
             let det_c = c[0] * c[1] - c[2] * c[2];
             let d = det_c / r.det_g;
-            if !(d > 0.0) {
+            if d.is_nan() || d <= 0.0 {
                 // a collapsed element: no finite energy (the solver rejects the state)
                 out.w = f64::NAN;
                 return out;

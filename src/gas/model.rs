@@ -95,7 +95,7 @@ pub struct GasEval {
 
 /// The committed state (see the module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct State {
+pub(super) struct State {
     v_membrane: f64,
     sigma_b: f64,
     sigma_r: f64,
@@ -120,7 +120,7 @@ struct Pipe {
 }
 
 /// Bag and reservoir quantities at one state (reservoir entries zero without one).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Quantities {
     p_b: D,
     t_b: D,
@@ -154,6 +154,14 @@ pub struct Gas {
     /// Density at the charge [kg/m³] (zero of the polytropic energy).
     rho_ref: f64,
     committed: State,
+    /// The quantities and the evaluation of `committed` ([`Gas::committed`]), recomputed
+    /// whenever it changes: steps start from them and outputs read them, so they are computed
+    /// once per commit instead of once per use.
+    committed_cache: (Quantities, GasEval),
+    /// Closed bag without heat exchange (no reservoir; polytropic, or the energy law with
+    /// `gas.heat_transfer` = 0): σ and the mass are constant, and a step has the closed form
+    /// of [`Gas::closed_step`].
+    pub(super) closed: bool,
     max_iterations: usize,
 }
 
@@ -164,6 +172,29 @@ fn err<T>(msg: String) -> Result<T, GasError> {
 /// `(e^{a y} − 1)/a`, continuous at a = 0 (= y).
 fn expm1_over(a: f64, y: f64) -> f64 {
     if a == 0.0 { y } else { (a * y).exp_m1() / a }
+}
+
+impl Quantities {
+    /// All zero (a placeholder before the charge).
+    fn zero() -> Self {
+        let z = D::c(0.0);
+        Self {
+            p_b: z,
+            t_b: z,
+            rho_b: z,
+            m_b: z,
+            p_r: z,
+            t_r: z,
+            rho_r: z,
+            m_r: z,
+            mdot: z,
+            g_b: z,
+            g_r: z,
+            heat_b: z,
+            heat_r: z,
+            force: z,
+        }
+    }
 }
 
 impl Gas {
@@ -194,6 +225,11 @@ impl Gas {
             heat_out: 0.0,
             loss_work: 0.0,
         };
+        let closed = pipe.is_none()
+            && match params.law {
+                GasLaw::Polytropic { .. } => true,
+                GasLaw::Energy { heat_transfer } => heat_transfer == 0.0,
+            };
         let mut gas = Self {
             params,
             kappa: params.kappa(),
@@ -201,6 +237,25 @@ impl Gas {
             e_ref: 0.0,
             rho_ref: 0.0,
             committed: zero,
+            committed_cache: (
+                Quantities::zero(),
+                GasEval {
+                    p_abs: 0.0,
+                    p_gauge: 0.0,
+                    dp_dv: 0.0,
+                    volume: 0.0,
+                    temperature: 0.0,
+                    mass: 0.0,
+                    reservoir_pressure: 0.0,
+                    reservoir_temperature: 0.0,
+                    reservoir_mass: 0.0,
+                    mass_flow: 0.0,
+                    internal_energy: 0.0,
+                    heat_out: 0.0,
+                    loss_work: 0.0,
+                },
+            ),
+            closed,
             max_iterations: MAX_ITERATIONS,
         };
         gas.charge(p_gauge_design, v_membrane_design)?;
@@ -248,7 +303,7 @@ impl Gas {
         let sigma = p.ln() - self.kappa * rho.ln();
         self.e_ref = p / rho;
         self.rho_ref = rho;
-        self.committed = State {
+        self.set_committed(State {
             v_membrane: v_membrane_design,
             sigma_b: sigma,
             sigma_r: sigma,
@@ -257,7 +312,7 @@ impl Gas {
             mdot: 0.0,
             heat_out: 0.0,
             loss_work: 0.0,
-        };
+        });
         Ok(())
     }
 
@@ -294,7 +349,7 @@ impl Gas {
         let (rho, p, _) = self.static_state(v_membrane)?;
         let v_b = self.bag_volume(v_membrane, "static pressure")?;
         let sigma = p.ln() - self.kappa * rho.ln();
-        self.committed = State {
+        self.set_committed(State {
             v_membrane,
             sigma_b: sigma,
             sigma_r: sigma,
@@ -303,7 +358,7 @@ impl Gas {
             mdot: 0.0,
             heat_out: 0.0,
             loss_work: 0.0,
-        };
+        });
         Ok(())
     }
 
@@ -384,7 +439,16 @@ impl Gas {
         }
     }
 
-    /// Quantities of the committed state (constants).
+    /// Makes `s` the committed state and recomputes what is derived from it.
+    fn set_committed(&mut self, s: State) {
+        self.committed = s;
+        let q = self.committed_quantities();
+        let v_b = s.v_membrane + self.params.inner_volume;
+        let e = self.evaluation(&s, &q, v_b, -self.kappa * q.p_b.v / v_b);
+        self.committed_cache = (q, e);
+    }
+
+    /// Quantities of the committed state (constants), computed.
     fn committed_quantities(&self) -> Quantities {
         let s = &self.committed;
         let c = D::c;
@@ -418,14 +482,32 @@ impl Gas {
         ([r0, r1, r2], q)
     }
 
-    /// Newton solve of the step; the end state and its evaluation.
+    /// The end state of a step and its evaluation: [`Gas::closed_step`] where it applies, else
+    /// [`Gas::solve_newton`].
     fn solve(&self, dt: f64, v_membrane_end: f64) -> Result<(State, GasEval), GasError> {
+        if self.closed
+            && dt.is_finite()
+            && dt >= 0.0
+            && let Ok(v_b) = self.bag_volume(v_membrane_end, "step")
+            && let Some(done) = self.closed_step(v_membrane_end, v_b)
+        {
+            return Ok(done);
+        }
+        self.solve_newton(dt, v_membrane_end)
+    }
+
+    /// Newton solve of the step; the end state and its evaluation.
+    pub(super) fn solve_newton(
+        &self,
+        dt: f64,
+        v_membrane_end: f64,
+    ) -> Result<(State, GasEval), GasError> {
         if !(dt.is_finite() && dt >= 0.0) {
             return err(format!("step: time step {dt} s must be finite and >= 0"));
         }
         let v_b = self.bag_volume(v_membrane_end, "step")?;
         let s0 = self.committed;
-        let q0 = self.committed_quantities();
+        let q0 = self.committed_cache.0;
         let finite = |r: &[D; 3], q: &Quantities| {
             r.iter().all(|x| x.is_finite())
                 && q.m_b.v > 0.0
@@ -539,6 +621,49 @@ impl Gas {
         Ok((s1, eval))
     }
 
+    /// The step of a closed bag without heat exchange (`self.closed`): σ, the mass and the
+    /// energy accounts stay; `p = e^σ (m/V)^κ` and `dp/dV = −κ p/V` at the end volume. The
+    /// operations are those the general Newton solve does on its dual numbers in this case
+    /// (its residual is zero at the committed σ, so it takes no step), so the result is the
+    /// same to the last bit (`tests::closed_step_is_the_newton_solve`). `None` when the state
+    /// is not admissible: the general solve then reports why.
+    pub(super) fn closed_step(&self, v_membrane_end: f64, v_b: f64) -> Option<(State, GasEval)> {
+        let s0 = &self.committed;
+        let (p, dp_dv) = self.closed_pressure(v_b)?;
+        let rho = s0.m_b / v_b;
+        let t = p / (rho * R_AIR);
+        if !t.is_finite() {
+            return None;
+        }
+        let mut q = Quantities::zero();
+        q.p_b = D::c(p);
+        q.t_b = D::c(t);
+        q.rho_b = D::c(rho);
+        q.m_b = D::c(s0.m_b);
+        let s1 = State {
+            v_membrane: v_membrane_end,
+            mdot: 0.0,
+            m_r: 0.0,
+            ..*s0
+        };
+        let eval = self.evaluation(&s1, &q, v_b, dp_dv);
+        let ok =
+            eval.p_abs > 0.0 && eval.temperature.is_finite() && eval.internal_energy.is_finite();
+        ok.then_some((s1, eval))
+    }
+
+    /// Pressure and `dp/dV` of [`Gas::closed_step`] at the bag volume `v_b` [m³] (`None` if
+    /// not finite and positive).
+    fn closed_pressure(&self, v_b: f64) -> Option<(f64, f64)> {
+        let s0 = &self.committed;
+        // as the dual numbers compute ρ = m/V, ln ρ · κ + σ, exp and d/dV
+        let rho = s0.m_b / v_b;
+        let drho = (0.0 - rho * 1.0) / v_b;
+        let p = (s0.sigma_b + rho.ln() * self.kappa).exp();
+        let dp_dv = ((drho * (1.0 / rho)) * self.kappa) * p;
+        (s0.m_b > 0.0 && p.is_finite() && p > 0.0 && dp_dv.is_finite()).then_some((p, dp_dv))
+    }
+
     /// Specific polytropic energy e(ρ) [J/kg], zero at the charge density.
     fn poly_energy(&self, rho: f64) -> f64 {
         self.e_ref * expm1_over(self.kappa - 1.0, (rho / self.rho_ref).ln())
@@ -594,18 +719,32 @@ impl Gas {
         self.solve(dt, v_membrane_end).map(|(_, e)| e)
     }
 
+    /// The absolute bag pressure [Pa] and `dp/dv` [Pa/m³] of [`Gas::evaluate`], without the
+    /// energy accounts and temperatures where the step has a closed form (a closed bag without
+    /// heat exchange): what a model's Newton iteration needs.
+    pub fn pressure(&self, dt: f64, v_membrane_end: f64) -> Result<(f64, f64), GasError> {
+        if self.closed
+            && dt.is_finite()
+            && dt >= 0.0
+            && let Ok(v_b) = self.bag_volume(v_membrane_end, "step")
+            && let Some((p, dp_dv)) = self.closed_pressure(v_b)
+        {
+            return Ok((p, dp_dv));
+        }
+        self.evaluate(dt, v_membrane_end)
+            .map(|e| (e.p_abs, e.dp_dv))
+    }
+
     /// [`Gas::evaluate`] and makes its end state the committed one.
     pub fn commit(&mut self, dt: f64, v_membrane_end: f64) -> Result<GasEval, GasError> {
         let (s, e) = self.solve(dt, v_membrane_end)?;
-        self.committed = s;
+        self.set_committed(s);
         Ok(e)
     }
 
     /// The committed state (with the instantaneous `dp_dv = −κ p/V` of `evaluate(0, v)`).
     pub fn committed(&self) -> GasEval {
-        let q = self.committed_quantities();
-        let v_b = self.committed.v_membrane + self.params.inner_volume;
-        self.evaluation(&self.committed, &q, v_b, -self.kappa * q.p_b.v / v_b)
+        self.committed_cache.1
     }
 
     /// The committed membrane volume [m³].
@@ -617,7 +756,7 @@ impl Gas {
     /// mass [kg], density [kg/m³]; the pipe's inertance [1/m] and laminar resistance to volume
     /// flow [Pa s/m³]; and κ.
     pub(super) fn linear_point(&self) -> LinearPoint {
-        let q = self.committed_quantities();
+        let q = self.committed_cache.0;
         LinearPoint {
             p_b: q.p_b.v,
             m_b: q.m_b.v,
@@ -656,7 +795,9 @@ impl Gas {
         if !v.iter().all(|x| x.is_finite()) {
             return Err(SnapshotError("gas state is not finite".into()));
         }
-        self.committed = State {
+        self.e_ref = v[8];
+        self.rho_ref = v[9];
+        self.set_committed(State {
             v_membrane: v[0],
             sigma_b: v[1],
             sigma_r: v[2],
@@ -665,9 +806,7 @@ impl Gas {
             mdot: v[5],
             heat_out: v[6],
             loss_work: v[7],
-        };
-        self.e_ref = v[8];
-        self.rho_ref = v[9];
+        });
         Ok(())
     }
 

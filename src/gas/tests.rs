@@ -79,6 +79,52 @@ fn adiabatic_and_polytropic_closed_volume_are_exact() {
     }
 }
 
+/// The closed form of a closed bag without heat exchange (`Gas::closed_step`: the path every
+/// step of such a gas takes) is the general Newton solve to the last bit: end state (σ, masses,
+/// accounts) and evaluation (pressure, dp/dV, temperature, energy), along a random volume path
+/// committed through the closed form, for the energy law at h = 0 and two polytropic laws.
+/// A gas with heat transfer or a reservoir does not take it.
+#[test]
+fn closed_step_is_the_newton_solve() {
+    for law in [
+        GasLaw::Energy { heat_transfer: 0.0 },
+        GasLaw::Polytropic { n: 1.4 },
+        GasLaw::Polytropic { n: 1.0 },
+    ] {
+        let mut g = gas(law, false);
+        let mut rng = Rng(0x9e37_79b9);
+        for k in 0..500 {
+            let dt = if k % 7 == 0 {
+                0.0
+            } else {
+                rng.range(1e-5, 1e-2)
+            };
+            let v = V_MEMBRANE * rng.range(0.3, 2.0);
+            let newton = g.solve_newton(dt, v).unwrap();
+            let closed = g.closed_step(v, v + V_INNER).expect("closed form");
+            assert_eq!(newton, closed, "{law:?}, step {k}, dt = {dt}, v = {v}");
+            assert_eq!(g.evaluate(dt, v).unwrap(), closed.1);
+            let e = closed.1;
+            assert_eq!(g.pressure(dt, v).unwrap(), (e.p_abs, e.dp_dv));
+            g.commit(dt, v).unwrap();
+        }
+    }
+    for (law, reservoir) in [
+        (
+            GasLaw::Energy {
+                heat_transfer: 10.0,
+            },
+            false,
+        ),
+        (GasLaw::Polytropic { n: 1.4 }, true),
+    ] {
+        assert!(
+            !gas(law, reservoir).closed,
+            "{law:?}, reservoir {reservoir}"
+        );
+    }
+}
+
 /// Polytropic law with the reservoir: each volume keeps `p = K ρⁿ` with the one K of the charge
 /// while gas flows between them.
 #[test]

@@ -261,11 +261,7 @@ impl AirSpringTable {
     /// `dt` from the committed gas, or at rest (`None`).
     fn gas_at(&self, dt: Option<f64>, v: f64) -> Result<(f64, f64), String> {
         match dt {
-            Some(dt) => self
-                .gas
-                .evaluate(dt, v)
-                .map(|e| (e.p_abs, e.dp_dv))
-                .map_err(|e| e.to_string()),
+            Some(dt) => self.gas.pressure(dt, v).map_err(|e| e.to_string()),
             None => self.gas.static_pressure(v).map_err(|e| e.to_string()),
         }
     }
@@ -273,12 +269,15 @@ impl AirSpringTable {
     /// Pressure, volume, force and derivatives at height `z` after a step of `dt` (or at rest).
     fn solve(&self, z: f64, dt: Option<f64>) -> Result<Point, String> {
         let pa = self.gas.params().ambient_pressure;
+        // the table at z once: only the pressure changes in the iteration
         let (c, dc) = self.compliance.eval(z);
+        let (vol, dvol) = self.volume.eval(z);
+        let table_volume = |p_g: f64| vol + c * (p_g - self.p_ref);
         let mut p_g = self.gas.committed().p_gauge;
         let mut ok = false;
         let mut dpdv = 0.0;
         for _ in 0..50 {
-            let v = self.table_volume(z, p_g);
+            let v = table_volume(p_g);
             let (p, d) = self.gas_at(dt, v)?;
             dpdv = d;
             let f = p_g - (p - pa);
@@ -296,9 +295,8 @@ impl AirSpringTable {
         if !ok {
             return Err(format!("no gas pressure at height {z} m"));
         }
-        let v = self.table_volume(z, p_g);
+        let v = table_volume(p_g);
         let (a, da) = self.area.eval(z);
-        let (_, dvol) = self.volume.eval(z);
         let dvz = dvol + dc * (p_g - self.p_ref);
         let dp = dpdv * dvz / (1.0 - dpdv * c);
         Ok(Point {
@@ -418,6 +416,12 @@ impl Model for AirSpringTable {
             Output::TopFz => Some(self.point.dfdz * self.plate.motion(self.t).1),
             _ => None,
         }
+    }
+
+    /// The table has no coordinates, hence no accelerations to restart when an input jumps
+    /// (a restart would only solve the gas once more at the step's start).
+    fn input_restarts_accelerations(&self, _input: usize) -> bool {
+        false
     }
 
     fn output_input_derivative(&mut self, output: usize, input: usize) -> Option<f64> {
