@@ -1,0 +1,52 @@
+//! The files an FMU carries besides `modelDescription.xml`, the scene and the library.
+
+use super::html::index_html;
+use super::licenses::license_files;
+use super::png::sketch_png;
+use super::terminals::{terminals, terminals_and_icons_xml};
+use crate::model::build_model;
+use crate::scene::{ParamValues, Scene};
+use crate::variables::VariableTable;
+
+/// One file inside the FMU.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FmuFile {
+    /// Path inside the archive (forward slashes).
+    pub path: String,
+    /// Contents.
+    pub data: Vec<u8>,
+}
+
+/// Side length of `model.png` [px].
+pub const ICON_SIZE: usize = 256;
+
+/// `documentation/index.html`, `documentation/licenses/…`, `model.png` and
+/// `terminalsAndIcons/terminalsAndIcons.xml` of `scene`. Builds the model with the default
+/// parameters for its drawing (as `flexfmu check` does); fails with its message if that
+/// fails, or if the licences were not collected at build time.
+pub fn documentation_files(scene: &Scene) -> Result<Vec<FmuFile>, String> {
+    let model = build_model(scene, &ParamValues::defaults(&scene.params))?;
+    let sketch = model.sketch();
+    let ports = terminals(&VariableTable::from_scene(scene));
+    let mut out = vec![
+        FmuFile {
+            path: "documentation/index.html".into(),
+            data: index_html(scene, &sketch, model.n_free(), &ports).into_bytes(),
+        },
+        FmuFile {
+            path: "model.png".into(),
+            data: sketch_png(&sketch, ICON_SIZE),
+        },
+        FmuFile {
+            path: "terminalsAndIcons/terminalsAndIcons.xml".into(),
+            data: terminals_and_icons_xml(&ports).into_bytes(),
+        },
+    ];
+    for (p, data) in license_files()? {
+        out.push(FmuFile {
+            path: format!("documentation/licenses/{p}"),
+            data,
+        });
+    }
+    Ok(out)
+}
