@@ -194,6 +194,7 @@ fn kernel(bending: Bending, geometric_stiffness: bool) -> [f64; 2] {
     let opt = ShellOptions {
         bending,
         geometric_stiffness,
+        membrane: true,
         ..ShellOptions::default()
     };
     let el = TrapezoidShell::new(x0, &mat, &opt).unwrap();

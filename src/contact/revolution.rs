@@ -12,7 +12,7 @@
 use super::circle_friction::{ContactLaw, smoothed_penalty};
 use super::obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
 use crate::snapshot::{SnapshotError, StateReader, StateWriter};
-use nalgebra::{SVector, Vector2};
+use nalgebra::{Matrix3, SVector, Vector2, Vector3};
 
 /// The history of a frictionless contact: nothing.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -185,6 +185,156 @@ impl Obstacle<2> for AxisymObstacle {
     fn shift_history(_h: &mut NoHistory, _l: usize, _by: f64) {}
 }
 
+/// An active contact point in space (the shell level): force on the point and its
+/// derivatives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RevolutionContact {
+    /// Force on the point `w p n` [N].
+    pub force: Vector3<f64>,
+    /// Penetration [m].
+    pub penetration: f64,
+    /// `∂δ/∂(x, y, z, z₀)`.
+    grad: [f64; 4],
+    /// Normal `n`.
+    normal: Vector3<f64>,
+    /// `w p ∂n/∂x` (the normal turns with the point about the axis).
+    dn: Matrix3<f64>,
+    /// `w ∂p/∂(x, y)` through the penetration rate at fixed velocity (the radial direction of
+    /// the rate turns with the point).
+    dp_turn: [f64; 2],
+    /// `∂p/∂δ` and `∂p/∂δ̇` times `w`.
+    dp: [f64; 2],
+    /// Elastic energy [J].
+    energy: f64,
+    /// Damping power [W].
+    power: f64,
+}
+
+impl ObstacleContact<3> for RevolutionContact {
+    fn force(&self) -> SVector<f64, 3> {
+        self.force
+    }
+
+    /// Force on the obstacle along the axis: `−F_z`.
+    fn generalized_force(&self, _l: usize) -> f64 {
+        -self.force.z
+    }
+
+    fn iteration_block(&self, ks: f64, kd: f64, out: &mut [f64]) {
+        // F = (w p n, −w p n_z) over x = (x, y, z, z₀): ∂F/∂x = n' ∇δᵀ (p_δ, p_δ̇) + w p ∂n/∂x
+        let nf = [self.normal.x, self.normal.y, self.normal.z, -self.normal.z];
+        let s = ks * self.dp[0] + kd * self.dp[1];
+        for j in 0..4 {
+            for i in 0..4 {
+                out[i + 4 * j] = nf[i] * self.grad[j] * s;
+            }
+        }
+        for j in 0..3 {
+            for i in 0..3 {
+                out[i + 4 * j] += ks * self.dn[(i, j)];
+            }
+        }
+        for j in 0..2 {
+            for i in 0..4 {
+                out[i + 4 * j] += ks * nf[i] * self.dp_turn[j];
+            }
+        }
+    }
+
+    fn slipping(&self) -> bool {
+        false
+    }
+
+    fn normal_energy(&self) -> f64 {
+        self.energy
+    }
+
+    fn dissipation(&self) -> f64 {
+        self.power
+    }
+}
+
+/// The same obstacles seen in space (the axis is z): a point `(x, y, z)` is at radius
+/// `r = √(x² + y²)` of its meridian plane, and the normal `(n_r e_r, n_z)` turns with it about
+/// the axis. Only the piston is defined in space: the plate of a shell spring tilts, which its
+/// axial coordinate cannot say (the shell level leaves the fold against the plate out).
+impl Obstacle<3> for AxisymObstacle {
+    const N_COORDS: usize = 1;
+    type History = NoHistory;
+    type Contact = RevolutionContact;
+
+    fn near(&self, _a: &SVector<f64, 3>, _b: &SVector<f64, 3>) -> bool {
+        matches!(self, AxisymObstacle::Piston { .. })
+    }
+
+    fn evaluate(
+        &self,
+        law: &ContactLaw,
+        w: f64,
+        p: &PointMotion<3>,
+        x: &[f64],
+        xd: &[f64],
+        _hist: &NoHistory,
+    ) -> Option<RevolutionContact> {
+        if !matches!(self, AxisymObstacle::Piston { .. }) {
+            return None;
+        }
+        let r = p.r.xy().norm();
+        if r <= 0.0 {
+            return None;
+        }
+        let (delta, n2, g2) = self.gap(r, p.r.z, x[0])?;
+        if delta <= 0.0 {
+            return None;
+        }
+        let er = p.r.xy() / r;
+        let grad = [g2[0] * er.x, g2[0] * er.y, g2[1], g2[2]];
+        let rate = grad[0] * p.v.x + grad[1] * p.v.y + grad[2] * p.v.z + grad[3] * xd[0];
+        let (pe, dpe, ramp, dramp, ue) = smoothed_penalty(law, delta);
+        let pressure = pe + law.d_n * ramp * rate;
+        if pressure <= 0.0 {
+            return None;
+        }
+        let normal = Vector3::new(n2.x * er.x, n2.x * er.y, n2.y);
+        // ∂(n_r e_r)/∂(x, y) = n_r (I − e_r e_rᵀ)/r
+        let mut dn = Matrix3::zeros();
+        let c = w * pressure * n2.x / r;
+        dn[(0, 0)] = c * (1.0 - er.x * er.x);
+        dn[(1, 1)] = c * (1.0 - er.y * er.y);
+        dn[(0, 1)] = -c * er.x * er.y;
+        dn[(1, 0)] = dn[(0, 1)];
+        // ∂(∇δ · v)/∂(x, y) = (∂δ/∂r) (I − e_r e_rᵀ) v_xy / r
+        let vt = (p.v.xy() - er * er.dot(&p.v.xy())) * (g2[0] / r);
+        let turn = w * law.d_n * ramp;
+        Some(RevolutionContact {
+            dp_turn: [turn * vt.x, turn * vt.y],
+            force: w * pressure * normal,
+            penetration: delta,
+            grad,
+            normal,
+            dn,
+            dp: [w * (dpe + law.d_n * dramp * rate), w * law.d_n * ramp],
+            energy: w * ue,
+            power: w * law.d_n * ramp * rate * rate,
+        })
+    }
+
+    fn committed(
+        &self,
+        _p: &PointMotion<3>,
+        _x: &[f64],
+        _c: Option<&RevolutionContact>,
+    ) -> NoHistory {
+        NoHistory
+    }
+
+    fn friction_work(_w: f64, _h: &NoHistory, _c: &RevolutionContact) -> f64 {
+        0.0
+    }
+
+    fn shift_history(_h: &mut NoHistory, _l: usize, _by: f64) {}
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -296,5 +446,62 @@ mod tests {
                 .evaluate(&law(), 1.0, &at(0.16, 0.2501), &[0.25], &[0.0], &NoHistory)
                 .is_none()
         );
+    }
+
+    /// The spatial view: the force and its iteration block against finite differences on a
+    /// tapered piston at a point off the x axis; the force is the meridian-plane force turned
+    /// about the axis.
+    #[test]
+    fn spatial_block_matches_finite_differences() {
+        let piston = AxisymObstacle::Piston {
+            contour: vec![[0.11, 0.0], [0.1, 0.1], [0.1, 0.15]],
+        };
+        let (phi, r) = (0.7f64, 0.1045);
+        let x = [r * phi.cos(), r * phi.sin(), 0.05, 0.001];
+        let v = [0.1, -0.2, 0.05, 0.03];
+        let eval = |x: [f64; 4], v: [f64; 4]| {
+            let p = PointMotion {
+                r: Vector3::new(x[0], x[1], x[2]),
+                v: Vector3::new(v[0], v[1], v[2]),
+            };
+            let c = Obstacle::<3>::evaluate(&piston, &law(), 0.01, &p, &[x[3]], &[v[3]], &NoHistory)
+                .expect("in contact");
+            [c.force.x, c.force.y, c.force.z, c.generalized_force(0)]
+        };
+        let f = eval(x, v);
+        let p2 = PointMotion {
+            r: Vector2::new(r, x[2]),
+            v: Vector2::new(v[0] * phi.cos() + v[1] * phi.sin(), v[2]),
+        };
+        let c2 = Obstacle::<2>::evaluate(&piston, &law(), 0.01, &p2, &[x[3]], &[v[3]], &NoHistory)
+            .unwrap();
+        assert!((f[0] - c2.force.x * phi.cos()).abs() < 1e-9 * c2.force.norm());
+        assert!((f[1] - c2.force.x * phi.sin()).abs() < 1e-9 * c2.force.norm());
+        assert!((f[2] - c2.force.y).abs() < 1e-9 * c2.force.norm());
+        let p = PointMotion {
+            r: Vector3::new(x[0], x[1], x[2]),
+            v: Vector3::new(v[0], v[1], v[2]),
+        };
+        let c = Obstacle::<3>::evaluate(&piston, &law(), 0.01, &p, &[x[3]], &[v[3]], &NoHistory)
+            .unwrap();
+        let (mut ks, mut kd) = ([0.0; 16], [0.0; 16]);
+        c.iteration_block(1.0, 0.0, &mut ks);
+        c.iteration_block(0.0, 1.0, &mut kd);
+        for j in 0..4 {
+            let (mut xp, mut xm) = (x, x);
+            xp[j] += 1e-9;
+            xm[j] -= 1e-9;
+            let (fp, fm) = (eval(xp, v), eval(xm, v));
+            let (mut vp, mut vm) = (v, v);
+            vp[j] += 1e-3;
+            vm[j] -= 1e-3;
+            let (gp, gm) = (eval(x, vp), eval(x, vm));
+            for i in 0..4 {
+                let fd = (fp[i] - fm[i]) / 2e-9;
+                assert!((fd - ks[i + 4 * j]).abs() <= 1e-5 * (1.0 + fd.abs()), "{i}{j}: {fd} vs {}", ks[i + 4 * j]);
+                let fdv = (gp[i] - gm[i]) / 2e-3;
+                assert!((fdv - kd[i + 4 * j]).abs() <= 1e-6 * (1.0 + fdv.abs()), "v {i}{j}");
+            }
+        }
     }
 }

@@ -13,6 +13,7 @@ pub mod axisym_bending;
 pub mod axisym_membrane;
 pub mod conformance;
 pub mod cord_rubber;
+pub mod cord_rubber_quad;
 pub mod corotational3d;
 pub mod element;
 pub mod finite_difference;

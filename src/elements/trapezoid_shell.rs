@@ -133,6 +133,10 @@ pub struct ShellOptions {
     pub drilling: f64,
     /// Include the geometric (initial-stress) stiffness of the local von Kármán strains.
     pub geometric_stiffness: bool,
+    /// Include the isotropic membrane energy (`E h/(1 − ν²)`). Off for a wall whose membrane is
+    /// another element on the same nodes (the air spring's cord–rubber wall,
+    /// [`super::cord_rubber_quad`]): the element then carries bending, drilling and inertia.
+    pub membrane: bool,
 }
 
 impl Default for ShellOptions {
@@ -141,6 +145,7 @@ impl Default for ShellOptions {
             bending: Bending::V2,
             drilling: 1e-3,
             geometric_stiffness: true,
+            membrane: true,
         }
     }
 }
@@ -794,6 +799,9 @@ impl TrapezoidShell {
             .ok_or("singular rigid-mode mass")?;
         let rigid_y = s * r.transpose() * mass;
         let proj = Mat24::identity() - r * rigid_y;
+        if !opt.membrane {
+            k_mem.fill(0.0);
+        }
         let k_lin = k_mem + k_rest;
         let k_local = if opt.geometric_stiffness {
             k_rest
@@ -1018,7 +1026,12 @@ impl TrapezoidShell {
         let mut e = 0.5 * d.dot(&g);
         let cm = self.mat.plane_stress(self.mat.membrane_stiffness());
         let mut h = hess.as_ref().map(|_| self.k_local);
-        for (bm, gw, wd) in &self.membrane {
+        let membrane: &[_] = if self.opt.membrane {
+            &self.membrane
+        } else {
+            &[]
+        };
+        for (bm, gw, wd) in membrane {
             let th = gw * d;
             let eps = bm * d + Vector3::new(0.5 * th.x * th.x, 0.5 * th.y * th.y, th.x * th.y);
             let n = cm * eps;

@@ -6,5 +6,6 @@ mod ancf_cable2d;
 mod ancf_shear2d;
 mod axisym_bending;
 mod axisym_membrane;
+mod cord_rubber_quad;
 mod corotational3d;
 mod trapezoid_shell;

@@ -344,6 +344,7 @@ impl Shell {
             },
             drilling: p.real(ELEMENT_DRILLING_STIFFNESS),
             geometric_stiffness: p.boolean(ELEMENT_GEOMETRIC_STIFFNESS),
+            membrane: true,
         };
         let gravity = Vector3::new(
             p.get(GRAVITY_X).map_or(0.0, |_| p.real(GRAVITY_X)),
