@@ -337,6 +337,7 @@ fn the_icon_is_a_png_of_the_stated_size() {
     for (name, scene) in shipped_scenes() {
         let files = documentation_files(&scene).unwrap();
         let png = file(&files, "model.png");
+        assert_eq!(file(&files, "terminalsAndIcons/icon.png"), png);
         assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n", "{name}");
         assert_eq!(&png[12..16], b"IHDR");
         let w = u32::from_be_bytes(png[16..20].try_into().unwrap());

@@ -20,22 +20,29 @@ pub struct FmuFile {
 /// Side length of `model.png` [px].
 pub const ICON_SIZE: usize = 256;
 
-/// `documentation/index.html`, `documentation/licenses/…`, `model.png` and
-/// `terminalsAndIcons/terminalsAndIcons.xml` of `scene`. Builds the model with the default
+/// `documentation/index.html`, `documentation/licenses/…`, `model.png` (FMI 2.0.4, 2.3) and
+/// `terminalsAndIcons/` (`terminalsAndIcons.xml` and the same icon as `icon.png`, FMI 3.0
+/// 2.4.9) of `scene`. Builds the model with the default
 /// parameters for its drawing (as `flexfmu check` does); fails with its message if that
 /// fails, or if the licences were not collected at build time.
 pub fn documentation_files(scene: &Scene) -> Result<Vec<FmuFile>, String> {
     let model = build_model(scene, &ParamValues::defaults(&scene.params))?;
     let sketch = model.sketch();
     let ports = terminals(&VariableTable::from_scene(scene));
+    let icon = sketch_png(&sketch, ICON_SIZE);
     let mut out = vec![
         FmuFile {
             path: "documentation/index.html".into(),
             data: index_html(scene, &sketch, model.n_free(), &ports).into_bytes(),
         },
+        // the FMI 2.0 icon, and the FMI 3.0 one that terminalsAndIcons.xml refers to
         FmuFile {
             path: "model.png".into(),
-            data: sketch_png(&sketch, ICON_SIZE),
+            data: icon.clone(),
+        },
+        FmuFile {
+            path: "terminalsAndIcons/icon.png".into(),
+            data: icon,
         },
         FmuFile {
             path: "terminalsAndIcons/terminalsAndIcons.xml".into(),
