@@ -511,3 +511,26 @@ fn an_fmu_takes_libraries_for_several_platforms() {
     assert!(e.contains("two libraries for platform win64"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_scene_whose_default_model_fails_is_documented_with_the_reason() {
+    // the plate with every edge free and static equilibrium requested: the build refuses the
+    // rigid motions, yet the FMU (whose user may set supports first) is still documented
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("scenes/plate.toml"))
+        .unwrap()
+        .replace("\"simply_supported\"", "\"free\"");
+    let scene = Scene::from_toml(&text).unwrap();
+    let err = build_model(&scene, &ParamValues::defaults(&scene.params))
+        .err()
+        .expect("the free plate does not build");
+    let files = documentation_files(&scene).unwrap();
+    let html = std::str::from_utf8(file(&files, "documentation/index.html")).unwrap();
+    parse_xml(html, "free plate");
+    assert!(html.contains("does not build with the default parameters"));
+    assert!(
+        html.contains(&flexfmu::docs::xml_text::escape(&err)),
+        "{err}"
+    );
+    assert!(html.contains("no drawing"));
+}

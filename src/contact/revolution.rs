@@ -464,8 +464,9 @@ mod tests {
                 r: Vector3::new(x[0], x[1], x[2]),
                 v: Vector3::new(v[0], v[1], v[2]),
             };
-            let c = Obstacle::<3>::evaluate(&piston, &law(), 0.01, &p, &[x[3]], &[v[3]], &NoHistory)
-                .expect("in contact");
+            let c =
+                Obstacle::<3>::evaluate(&piston, &law(), 0.01, &p, &[x[3]], &[v[3]], &NoHistory)
+                    .expect("in contact");
             [c.force.x, c.force.y, c.force.z, c.generalized_force(0)]
         };
         let f = eval(x, v);
@@ -498,9 +499,16 @@ mod tests {
             let (gp, gm) = (eval(x, vp), eval(x, vm));
             for i in 0..4 {
                 let fd = (fp[i] - fm[i]) / 2e-9;
-                assert!((fd - ks[i + 4 * j]).abs() <= 1e-5 * (1.0 + fd.abs()), "{i}{j}: {fd} vs {}", ks[i + 4 * j]);
+                assert!(
+                    (fd - ks[i + 4 * j]).abs() <= 1e-5 * (1.0 + fd.abs()),
+                    "{i}{j}: {fd} vs {}",
+                    ks[i + 4 * j]
+                );
                 let fdv = (gp[i] - gm[i]) / 2e-3;
-                assert!((fdv - kd[i + 4 * j]).abs() <= 1e-6 * (1.0 + fdv.abs()), "v {i}{j}");
+                assert!(
+                    (fdv - kd[i + 4 * j]).abs() <= 1e-6 * (1.0 + fdv.abs()),
+                    "v {i}{j}"
+                );
             }
         }
     }

@@ -68,8 +68,14 @@ const SOLVER_COSTS: &[(&str, &str)] = &[
 ];
 
 /// The documentation page of `scene`: `sketch` is the model's drawing with the default
-/// parameters, `n_free` its number of free coordinates, `terminals` its ports.
-pub fn index_html(scene: &Scene, sketch: &Sketch, n_free: usize, terminals: &[Terminal]) -> String {
+/// parameters, `n_free` its number of free coordinates (none: the model did not build),
+/// `terminals` its ports.
+pub fn index_html(
+    scene: &Scene,
+    sketch: &Sketch,
+    n_free: Option<usize>,
+    terminals: &[Terminal],
+) -> String {
     let vars = VariableTable::from_scene(scene);
     let kind = scene.kind();
     let name = scene.model_name();
@@ -94,7 +100,10 @@ pub fn index_html(scene: &Scene, sketch: &Sketch, n_free: usize, terminals: &[Te
     for (k, v) in [
         ("body kind", format!("{} — {}", kind.name(), kind.summary())),
         ("mesh", sketch.mesh.clone()),
-        ("free coordinates", n_free.to_string()),
+        (
+            "free coordinates",
+            n_free.map_or_else(|| "—".to_string(), |n| n.to_string()),
+        ),
         (
             "variables",
             format!(

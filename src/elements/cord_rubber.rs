@@ -319,7 +319,10 @@ mod tests {
                     let a = w.surface(&c, &r).w;
                     // without shear both ply directions have the same stretch
                     let b = w.axisym(ls, lt).w;
-                    assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{n} plies at {ls},{lt}: {a} vs {b}");
+                    assert!(
+                        (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                        "{n} plies at {ls},{lt}: {a} vs {b}"
+                    );
                 }
             }
         }
@@ -335,11 +338,7 @@ mod tests {
                 ..wall(to)
             };
             let r = cylinder(0.125, w.cord_angle);
-            for c in [
-                [1.3, 0.0125, 0.02],
-                [1.1, 0.018, -0.03],
-                [0.8, 0.02, 0.004],
-            ] {
+            for c in [[1.3, 0.0125, 0.02], [1.1, 0.018, -0.03], [0.8, 0.02, 0.004]] {
                 let e = w.surface(&c, &r);
                 for i in 0..3 {
                     let h = 1e-6 * c[i].abs().max(1e-3);

@@ -26,7 +26,12 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 const LAYOUT: Layout = Layout {
     dim: 3,
-    slots: &[Slot::Position, Slot::Position, Slot::Position, Slot::Position],
+    slots: &[
+        Slot::Position,
+        Slot::Position,
+        Slot::Position,
+        Slot::Position,
+    ],
 };
 
 /// Coordinates per element.
@@ -152,9 +157,15 @@ impl CordRubberQuad {
             let mut dc = [Vec12::zeros(); 3];
             for i in 0..4 {
                 let [a, b] = p.dn[i];
-                dc[0].fixed_rows_mut::<3>(3 * i).copy_from(&(g1 * (2.0 * a)));
-                dc[1].fixed_rows_mut::<3>(3 * i).copy_from(&(g2 * (2.0 * b)));
-                dc[2].fixed_rows_mut::<3>(3 * i).copy_from(&(g2 * a + g1 * b));
+                dc[0]
+                    .fixed_rows_mut::<3>(3 * i)
+                    .copy_from(&(g1 * (2.0 * a)));
+                dc[1]
+                    .fixed_rows_mut::<3>(3 * i)
+                    .copy_from(&(g2 * (2.0 * b)));
+                dc[2]
+                    .fixed_rows_mut::<3>(3 * i)
+                    .copy_from(&(g2 * a + g1 * b));
             }
             if let Some(f) = f.as_deref_mut() {
                 for (d, s) in dc.iter().zip(e.grad.iter()) {

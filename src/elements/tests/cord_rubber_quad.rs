@@ -37,8 +37,8 @@ fn flat(x: &[Vector3<f64>; 4]) -> SVector<f64, QUAD_DOFS> {
 
 fn case(tension_only: bool) -> Case<CordRubberQuad, QUAD_DOFS> {
     let x0 = facet(0.125, 0.2, 0.01, 1.0, 1.0);
-    let el = CordRubberQuad::new(x0, Vector3::new(0.0, 0.0, -1.0), wall(tension_only), 4.4)
-        .unwrap();
+    let el =
+        CordRubberQuad::new(x0, Vector3::new(0.0, 0.0, -1.0), wall(tension_only), 4.4).unwrap();
     let mut sheared = facet(0.125, 0.2, 0.01, 1.2, 0.85);
     sheared[0] += Vector3::new(0.0, 0.002, 0.0005);
     sheared[2] += Vector3::new(0.001, -0.001, 0.0003);
@@ -47,7 +47,10 @@ fn case(tension_only: bool) -> Case<CordRubberQuad, QUAD_DOFS> {
         element: el,
         states: vec![
             Config::at("stretched", flat(&facet(0.125, 0.2, 0.01, 1.3, 1.1))),
-            Config::at("hoop compression", flat(&facet(0.125, 0.2, 0.01, 1.28, 0.8))),
+            Config::at(
+                "hoop compression",
+                flat(&facet(0.125, 0.2, 0.01, 1.28, 0.8)),
+            ),
             Config::at("sheared and warped", flat(&sheared)).moving(v, v * 3.0),
         ],
     }
