@@ -19,6 +19,7 @@
 
 pub mod model;
 pub mod scene;
+pub mod shell;
 pub mod table;
 
 use crate::model::inputs::{InputSignal, prescribed};
@@ -33,6 +34,8 @@ body_kind! {
         tables: AirSpringScene,
         build: |s, p| if scene::is_table(s) {
             Ok(Box::new(table::AirSpringTable::build(s, p)?))
+        } else if scene::is_shell(s) {
+            Ok(Box::new(shell::AirSpringShell::build(s, p)?))
         } else {
             Ok(Box::new(AirSpring::build(s, p)?))
         },
@@ -43,68 +46,101 @@ body_kind! {
     }
 }
 
-/// The plate inputs `top.z`, `top.vz` of every level: the plate's prescribed motion.
+/// Plate axes of the shell level, in this order: `x`, `y`, `z` [m], `rx`, `ry` [rad] (the
+/// tilt as a rotation vector `(rx, ry, 0)`); the membrane and table levels move `z` only.
+pub const PLATE_AXES: usize = 5;
+/// Index of the axial plate coordinate among [`PLATE_AXES`].
+pub const AXIS_Z: usize = 2;
+
+/// The plate inputs of every level: per axis its position (`top.x`, `top.y`, `top.z`,
+/// `top.rx`, `top.ry`) and rate (`top.vx`, `top.vy`, `top.vz`, `top.wx`, `top.wy`) signals, the
+/// plate's prescribed motion.
 #[derive(Clone, Copy, Debug)]
 pub struct PlateInput {
-    /// `top.z` [m].
-    pub z: InputSignal,
-    /// `top.vz` [m/s].
-    pub vz: InputSignal,
+    /// `[position, rate]` signals per axis.
+    pub axes: [[InputSignal; 2]; PLATE_AXES],
 }
 
 impl PlateInput {
-    /// At rest at height `z` [m].
+    /// At rest at height `z` [m], untilted and centred.
     pub fn at_rest(z: f64) -> Self {
+        let mut pose = [0.0; PLATE_AXES];
+        pose[AXIS_Z] = z;
+        Self::at_pose(&pose)
+    }
+
+    /// At rest at the pose `pose` (axes as [`PLATE_AXES`]).
+    pub fn at_pose(pose: &[f64; PLATE_AXES]) -> Self {
         Self {
-            z: InputSignal::constant(z),
-            vz: InputSignal::constant(0.0),
+            axes: pose.map(|x| [InputSignal::constant(x), InputSignal::constant(0.0)]),
         }
+    }
+
+    /// The `z` position signal (`top.z`).
+    pub fn z(&self) -> &InputSignal {
+        &self.axes[AXIS_Z][0]
+    }
+
+    fn signal(&mut self, input: scene::Input) -> &mut InputSignal {
+        let (axis, rate) = input.axis();
+        &mut self.axes[axis][rate as usize]
     }
 
     /// Sets `input` to `value` at time `t`.
     pub fn set(&mut self, input: scene::Input, value: f64, t: f64) {
-        match input {
-            scene::Input::TopZ => self.z.set(value, t),
-            scene::Input::TopVz => self.vz.set(value, t),
-        }
+        self.signal(input).set(value, t);
     }
 
     /// Sets the `order`-th derivative of `input`.
     pub fn set_derivative(&mut self, input: scene::Input, order: usize, value: f64) {
-        match input {
-            scene::Input::TopZ => self.z.set_derivative(order, value),
-            scene::Input::TopVz => self.vz.set_derivative(order, value),
-        }
+        self.signal(input).set_derivative(order, value);
     }
 
-    /// Position [m], velocity [m/s] and acceleration [m/s²] of the plate at `t`
-    /// ([`prescribed`]).
+    /// Position [m], velocity [m/s] and acceleration [m/s²] of the plate along the axis at
+    /// `t` ([`prescribed`]).
     pub fn motion(&self, t: f64) -> (f64, f64, f64) {
-        prescribed(&self.z, &self.vz, t)
+        self.axis_motion(AXIS_Z, t)
+    }
+
+    /// Position, rate and second rate of plate axis `axis` at `t`.
+    pub fn axis_motion(&self, axis: usize, t: f64) -> (f64, f64, f64) {
+        let [p, v] = &self.axes[axis];
+        prescribed(p, v, t)
+    }
+
+    /// The last values set of the position signals (the targets of a static solve).
+    pub fn targets(&self) -> [f64; PLATE_AXES] {
+        std::array::from_fn(|i| self.axes[i][0].value)
     }
 
     /// `∂z/∂top.vz` of the plate position at `t`: the time since `top.z` was set when the
     /// position is advanced with the velocity input, 0 when `top.z` has its own derivatives.
     pub fn velocity_lever(&self, t: f64) -> f64 {
-        if self.z.interpolated {
-            0.0
-        } else {
-            t - self.z.t_ref
-        }
+        self.axis_lever(AXIS_Z, t)
     }
 
-    /// Appends both signals to a snapshot.
+    /// The same lever for plate axis `axis`.
+    pub fn axis_lever(&self, axis: usize, t: f64) -> f64 {
+        let p = &self.axes[axis][0];
+        if p.interpolated { 0.0 } else { t - p.t_ref }
+    }
+
+    /// Appends the signals to a snapshot.
     pub fn save(&self, w: &mut StateWriter) {
-        self.z.save(w);
-        self.vz.save(w);
+        for a in &self.axes {
+            a[0].save(w);
+            a[1].save(w);
+        }
     }
 
     /// Reads what [`PlateInput::save`] wrote.
     pub fn restore(r: &mut StateReader) -> Result<Self, SnapshotError> {
-        Ok(Self {
-            z: InputSignal::restore(r)?,
-            vz: InputSignal::restore(r)?,
-        })
+        let mut out = Self::at_rest(0.0);
+        for a in &mut out.axes {
+            a[0] = InputSignal::restore(r)?;
+            a[1] = InputSignal::restore(r)?;
+        }
+        Ok(out)
     }
 }
 
@@ -421,7 +457,11 @@ pub struct MeshSection {
     /// `mesh.n_meridional`: elements along the sleeve.
     #[serde(default = "MeshSection::n_meridional")]
     pub n_meridional: i64,
+    /// Elements around the circumference (shell level only; default 16).
+    #[serde(default = "MeshSection::n_circumferential")]
+    pub n_circumferential: Option<i64>,
 }
 defaults!(MeshSection {
-    n_meridional: i64 = 60
+    n_meridional: i64 = 60,
+    n_circumferential: Option<i64> = None,
 });

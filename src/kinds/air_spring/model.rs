@@ -587,7 +587,7 @@ impl AirSpring {
     /// load factor `lambda`).
     fn plate_motion(&self, t: f64, lambda: f64) -> (f64, f64, f64) {
         if self.statics {
-            let z = self.static_from + lambda * (self.plate.z.value - self.static_from);
+            let z = self.static_from + lambda * (self.plate.z().value - self.static_from);
             return (z, 0.0, 0.0);
         }
         let m = self.plate.motion(t);

@@ -14,6 +14,41 @@ pub enum Input {
     TopZ,
     /// `top.vz` [m/s]: its velocity.
     TopVz,
+    /// `top.x` [m] (shell level): lateral position of the plate centre.
+    TopX,
+    /// `top.y` [m] (shell level).
+    TopY,
+    /// `top.vx` [m/s] (shell level).
+    TopVx,
+    /// `top.vy` [m/s] (shell level).
+    TopVy,
+    /// `top.rx` [rad] (shell level): tilt of the plate, first component of its rotation
+    /// vector `(rx, ry, 0)`.
+    TopRx,
+    /// `top.ry` [rad] (shell level).
+    TopRy,
+    /// `top.wx` [rad/s] (shell level): rate of `top.rx`.
+    TopWx,
+    /// `top.wy` [rad/s] (shell level): rate of `top.ry`.
+    TopWy,
+}
+
+impl Input {
+    /// The plate axis (as [`super::PLATE_AXES`]) and whether the input is its rate.
+    pub fn axis(self) -> (usize, bool) {
+        match self {
+            Input::TopX => (0, false),
+            Input::TopY => (1, false),
+            Input::TopZ => (2, false),
+            Input::TopRx => (3, false),
+            Input::TopRy => (4, false),
+            Input::TopVx => (0, true),
+            Input::TopVy => (1, true),
+            Input::TopVz => (2, true),
+            Input::TopWx => (3, true),
+            Input::TopWy => (4, true),
+        }
+    }
 }
 
 /// What an output reports.
@@ -21,6 +56,14 @@ pub enum Input {
 pub enum Output {
     /// `top.fz` [N].
     TopFz,
+    /// `top.fx` [N] (shell level).
+    TopFx,
+    /// `top.fy` [N] (shell level).
+    TopFy,
+    /// `top.mx` [N m] (shell level): moment on the plate about its centre.
+    TopMx,
+    /// `top.my` [N m] (shell level).
+    TopMy,
     /// `gas.pressure` [Pa] absolute.
     Pressure,
     /// `gas.pressure_gauge` [Pa].
@@ -115,6 +158,8 @@ pub mod names {
     pub const CONTACT_STIFFNESS: &str = "contact.stiffness";
     /// Elements along the sleeve (Integer).
     pub const MESH_N_MERIDIONAL: &str = "mesh.n_meridional";
+    /// Elements around the sleeve (Integer, shell level).
+    pub const MESH_N_CIRCUMFERENTIAL: &str = "mesh.n_circumferential";
 }
 
 use names::*;
@@ -122,8 +167,11 @@ use names::*;
 /// Gas laws (values of `gas.model`).
 pub const GAS_MODELS: &[(&str, i32)] = &[("polytropic", 1), ("energy", 2)];
 
-/// Fidelity levels that are built (values of `model.fidelity`).
-pub const FIDELITIES: &[(&str, i32)] = &[("axisymmetric_membrane", 2), ("table", 3)];
+/// Fidelity levels (values of `model.fidelity`).
+pub const FIDELITIES: &[(&str, i32)] = &[("shell", 1), ("axisymmetric_membrane", 2), ("table", 3)];
+
+/// The shell level only.
+const SHELL_ONLY: &[(&str, i32)] = &[("shell", 1)];
 
 /// The membrane level only.
 const MEMBRANE_ONLY: &[(&str, i32)] = &[("axisymmetric_membrane", 2)];
@@ -134,6 +182,14 @@ const TABLE_ONLY: &[(&str, i32)] = &[("table", 3)];
 pub fn is_table(s: &AirSpringScene) -> bool {
     s.model.fidelity == 3
 }
+
+/// Whether a scene is a shell scene (level 1).
+pub fn is_shell(s: &AirSpringScene) -> bool {
+    s.model.fidelity == 1
+}
+
+/// Elements around the sleeve of a shell scene when the scene does not say.
+pub const DEFAULT_N_CIRCUMFERENTIAL: i64 = 16;
 
 /// Checks what the parameters cannot: the reservoir tables come together, the contour is
 /// increasing, the gas law is known.
@@ -151,10 +207,15 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
         .any(|(_, c)| *c as i64 == s.model.fidelity)
     {
         errs.push(format!(
-            "model.fidelity = {}: the levels built are {} (level 1, the seed-004 shell, is not built yet)",
+            "model.fidelity = {}: the levels are {}",
             s.model.fidelity,
             crate::scene::params::describe(FIDELITIES)
         ));
+    }
+    if s.mesh.n_circumferential.is_some() && !is_shell(s) {
+        errs.push(
+            "mesh.n_circumferential: used by the shell level (model.fidelity = 1) only; remove it or set the fidelity".into(),
+        );
     }
     let parts = [s.reservoir.is_some(), s.orifice.is_some(), s.pipe.is_some()];
     if parts.iter().any(|&p| p) && !parts.iter().all(|&p| p) {
@@ -266,10 +327,18 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
         None,
         if table {
             "Fidelity level: 3 = effective-area table with the gas law on top (this FMU carries the table only)"
+        } else if is_shell(s) {
+            "Fidelity level: 1 = shell (seed-004 elements for bending, cord-rubber membrane quadrilaterals, on the same nodes)"
         } else {
             "Fidelity level: 2 = axisymmetric membrane (2-node conical elements on the meridian)"
         },
-        Check::Choice(if table { TABLE_ONLY } else { MEMBRANE_ONLY }),
+        Check::Choice(if table {
+            TABLE_ONLY
+        } else if is_shell(s) {
+            SHELL_ONLY
+        } else {
+            MEMBRANE_ONLY
+        }),
     )];
     if table {
         defs.extend(gas_params(s));
@@ -362,7 +431,11 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
             BELLOWS_BENDING_STIFFNESS,
             s.bellows.bending(),
             Unit::NM,
-            "Meridional bending stiffness D of the wall (rotation-free hinges at the nodes); 0 = a pure membrane (default); the rubber's own is matrix_stiffness * thickness^2 / 12",
+            if is_shell(s) {
+                "Bending stiffness D of the wall (the seed-004 elements, isotropic, nu = 0); 0 = a pure membrane (default: the node rotations are then not coordinates); the rubber's own is matrix_stiffness * thickness^2 / 12"
+            } else {
+                "Meridional bending stiffness D of the wall (rotation-free hinges at the nodes); 0 = a pure membrane (default); the rubber's own is matrix_stiffness * thickness^2 / 12"
+            },
             Check::NonNegative,
         ),
         ParamDef::new(
@@ -388,6 +461,19 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
         "Elements along the sleeve",
         Check::IntRange(8, 100_000),
     ));
+    if is_shell(s) {
+        let n = s
+            .mesh
+            .n_circumferential
+            .unwrap_or(DEFAULT_N_CIRCUMFERENTIAL);
+        defs.push(ParamDef::new(
+            MESH_N_CIRCUMFERENTIAL,
+            Value::Integer(int_param(n, MESH_N_CIRCUMFERENTIAL)?),
+            None,
+            "Elements around the sleeve (the rings are equal-area polygons: their nodes lie on circles enlarged so that each polygon encloses the circle's area)",
+            Check::IntRange(8, 10_000),
+        ));
+    }
     Ok(defs)
 }
 
@@ -516,13 +602,99 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         "Velocity of the top plate along the axis".into(),
         Input::TopVz,
     );
+    let shell = is_shell(s);
+    let plate_inputs: &[&str] = if shell {
+        &[
+            "top.x", "top.y", "top.z", "top.rx", "top.ry", "top.vx", "top.vy", "top.vz", "top.wx",
+            "top.wy",
+        ]
+    } else {
+        &["top.z", "top.vz"]
+    };
+    if shell {
+        let more: &[(&str, Unit, &str, Input)] = &[
+            (
+                "top.x",
+                Unit::M,
+                "Lateral position of the top plate's centre along x",
+                Input::TopX,
+            ),
+            (
+                "top.y",
+                Unit::M,
+                "Lateral position of the top plate's centre along y",
+                Input::TopY,
+            ),
+            (
+                "top.vx",
+                Unit::MPerS,
+                "Velocity of the top plate along x",
+                Input::TopVx,
+            ),
+            (
+                "top.vy",
+                Unit::MPerS,
+                "Velocity of the top plate along y",
+                Input::TopVy,
+            ),
+            (
+                "top.rx",
+                Unit::Rad,
+                "Tilt of the top plate: x component of its rotation vector (rx, ry, 0) about its centre",
+                Input::TopRx,
+            ),
+            (
+                "top.ry",
+                Unit::Rad,
+                "Tilt of the top plate: y component of its rotation vector (rx, ry, 0) about its centre",
+                Input::TopRy,
+            ),
+            ("top.wx", Unit::RadPerS, "Rate of top.rx", Input::TopWx),
+            ("top.wy", Unit::RadPerS, "Rate of top.ry", Input::TopWy),
+        ];
+        for (name, unit, what, role) in more {
+            io.input(name.to_string(), 0.0, *unit, what.to_string(), *role);
+        }
+    }
     io.output(
         "top.fz".into(),
         Unit::N,
         "Axial force of the spring on the top plate (positive pushes it up)".into(),
         Output::TopFz,
     )
-    .depending_on(&["top.z", "top.vz"]);
+    .depending_on(plate_inputs);
+    if shell {
+        let more: &[(&str, Unit, &str, Output)] = &[
+            (
+                "top.fx",
+                Unit::N,
+                "Lateral force of the spring on the top plate along x",
+                Output::TopFx,
+            ),
+            (
+                "top.fy",
+                Unit::N,
+                "Lateral force of the spring on the top plate along y",
+                Output::TopFy,
+            ),
+            (
+                "top.mx",
+                Unit::NM,
+                "Moment of the spring on the top plate about x through the plate centre (the bead ring's centre)",
+                Output::TopMx,
+            ),
+            (
+                "top.my",
+                Unit::NM,
+                "Moment of the spring on the top plate about y through the plate centre",
+                Output::TopMy,
+            ),
+        ];
+        for (name, unit, what, role) in more {
+            io.output(name.to_string(), *unit, what.to_string(), *role)
+                .depending_on(plate_inputs);
+        }
+    }
     let outs: &[(&str, Unit, &str, Output)] = &[
         (
             "gas.pressure",

@@ -1,0 +1,1433 @@
+//! The air spring at the shell level (`model.fidelity = 1`): the sleeve as a surface mesh of
+//! `mesh.n_circumferential × mesh.n_meridional` quadrilaterals carrying the cord–rubber
+//! membrane ([`CordRubberQuad`], exact in finite strain) and, where the wall has a bending
+//! stiffness, the seed-004 element ([`TrapezoidShell`], bending and drilling only) on the same
+//! nodes; the gas of the bag ([`crate::gas::Gas`]) as a follower pressure with its rank-one
+//! volume coupling; frictionless penalty contact of the nodes with the piston of revolution
+//! ([`AxisymObstacle`] seen in space). The top plate moves in five axes (`top.x`, `top.y`,
+//! `top.z`, `top.rx`, `top.ry`) and reports force and moment.
+//!
+//! **Mesh.** Ring `i` (0 at the top bead, `n` at the clamp on the piston top) and angle
+//! `φ_j = 2π j/n_c`; the stress-free sleeve is the cylinder of `bellows.sleeve_radius`. Every
+//! ring is an *equal-area polygon*: its nodes lie on a circle enlarged by
+//! `s = √(2π/(n_c sin(2π/n_c)))`, so that the polygon encloses the area of the circle it
+//! stands for (bead ring, clamp ring, piston contour and sleeve alike). Hoop stretches are
+//! ratios of radii and keep their value, and the bag's cross-sections, volume and effective
+//! area are those of the surface of revolution at any `n_c`; the facets' own error is left
+//! (measured against the membrane level in `tests/air_spring.rs`).
+//!
+//! **Coordinates.** Per node `[x, y, z, θx, θy, θz]` as the shell kind (incremental rotations
+//! absorbed into stored node frames, [`FramedState`]); with `bellows.bending_stiffness = 0`
+//! the wall is a pure membrane and the rotations are not coordinates. Then the piston's axial
+//! position (fixed at 0). The bead ring follows the plate rigidly (positions prescribed,
+//! rotations free: a pinned bead, as the membrane level's), the clamp ring is fixed.
+//!
+//! **Residual.** `r = M a + f_int(q) − p_g f_p(q) − f_contact` with the follower load of the
+//! bilinear patches ([`pressure_into`]) at the gauge pressure `p_g(V)` of the gas; the bag
+//! volume `V` is the exact volume of the closed polyhedron (the patches' parts
+//! [`volume_part`] plus the two planar polygon caps at the plate and the piston top). The
+//! iteration matrix carries `−p_g ∂f_p/∂q` and the gas stiffness `−(dp/dV) g gᵀ`,
+//! `g = f_p = ∂V/∂q` on the free nodes, as the rank-one part of the solver (issue 11 item 1).
+//!
+//! **Design state.** The membrane level ([`super::model::AirSpring`], same parameters and
+//! meridional mesh) solves the axisymmetric design state; its meridian, revolved, with node
+//! frames turned by the meridian's angle, is the start of Newton's method for this level under
+//! the fixed design pressure. The gas is charged with this level's bag volume.
+//!
+//! **Plate force.** `top.f = −Σ_bead r_k + p_g A` (`A` the vector area of the plate cap) and
+//! `top.m = −Σ_bead (x_k − c) × r_k` about the plate centre `c`. The port block (the 5 × 5
+//! derivatives of `top.fx … top.my` with respect to the plate axes) is the static condensation
+//! of the tangent, with the gas: computed on request at the committed state.
+
+use super::scene::{Input, Output, io, names::*, piston_contour};
+use super::table::{gas_error, gas_output, gas_params};
+use super::{AXIS_Z, AirSpringScene, PLATE_AXES, PlateInput};
+use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval};
+use crate::contact::ContactPointSet;
+use crate::contact::circle_friction::ContactLaw;
+use crate::contact::revolution::AxisymObstacle;
+use crate::elements::cord_rubber::CordRubberWall;
+use crate::elements::cord_rubber_quad::{CordRubberQuad, QUAD_DOFS};
+use crate::elements::node_frames::NodeFrames;
+use crate::elements::rotation::{exp_so3, tangent_spatial};
+use crate::elements::surface_load::{pressure_into, volume_part, volume_part_gradient};
+use crate::elements::trapezoid_shell::{
+    Bending, ELEMENT_DOFS, NODE_DOFS, ShellMaterial, ShellOptions, TrapezoidShell,
+};
+use crate::gas::Gas;
+use crate::integrators::DynState;
+use crate::linalg::{CscPattern, LinearSolver, SolverKind, rank_one_len};
+use crate::model::framed::FramedState;
+use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
+use crate::scene::params::ParamValues;
+use crate::snapshot::{StateReader, StateWriter};
+use nalgebra::{Matrix3, SMatrix, SVector, UnitQuaternion, Vector3};
+use std::cell::RefCell;
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+/// How the gas pressure is taken in an evaluation.
+#[derive(Clone, Copy, Debug)]
+enum Pressure {
+    /// A fixed gauge pressure [Pa] (the design state).
+    Fixed(f64),
+    /// The gas at the end of a step of this length [s] from the committed state.
+    Step(f64),
+    /// The gas at rest (static solve).
+    Static,
+}
+
+/// Radius factor of an equal-area polygon of `n` sides: its vertices on the circle of radius
+/// `s r` enclose `π r²`.
+pub fn equal_area_factor(n: usize) -> f64 {
+    let a = 2.0 * PI / n as f64;
+    (a / a.sin()).sqrt()
+}
+
+/// The linear solver of the model's own solves (design state, condensation): a ring-ordered
+/// surface mesh has a band a few rings wide, and banded LU beats the simplicial sparse LU that
+/// the automatic choice takes for it (measured 12x at 16 × 60 elements).
+fn solver_kind(pattern: &CscPattern) -> SolverKind {
+    let (kl, ku) = pattern.bandwidths();
+    if 4 * (kl + ku) <= pattern.n() {
+        SolverKind::Banded
+    } else {
+        SolverKind::Auto
+    }
+}
+
+/// Element sets and contact over one split of the coordinates into free and prescribed.
+#[derive(Clone, Debug)]
+struct Mech {
+    asm: Assembly,
+    shells: Option<ElementSet<Arc<TrapezoidShell>, ELEMENT_DOFS>>,
+    quads: ElementSet<Arc<CordRubberQuad>, QUAD_DOFS>,
+    contact: ContactPointSet<AxisymObstacle, 3, 1, 4>,
+}
+
+/// What a [`Mech`] is built from.
+struct MechParts<'a> {
+    shells: Option<&'a [Arc<TrapezoidShell>]>,
+    quads: &'a [Arc<CordRubberQuad>],
+    elements: &'a [[usize; 4]],
+    n_nodes: usize,
+    frames: &'a NodeFrames,
+    law: ContactLaw,
+    piston: AxisymObstacle,
+    node_area: f64,
+}
+
+impl Mech {
+    fn new(parts: &MechParts, constrained: &[bool]) -> Self {
+        let n_nodes = parts.n_nodes;
+        let shell_dofs: Vec<[usize; ELEMENT_DOFS]> = parts
+            .elements
+            .iter()
+            .map(|el| std::array::from_fn(|i| el[i / NODE_DOFS] * NODE_DOFS + i % NODE_DOFS))
+            .collect();
+        let quad_dofs: Vec<[usize; QUAD_DOFS]> = parts
+            .elements
+            .iter()
+            .map(|el| std::array::from_fn(|i| el[i / 3] * NODE_DOFS + i % 3))
+            .collect();
+        let piston = n_nodes * NODE_DOFS;
+        let blocks: Vec<[usize; 4]> = (0..n_nodes)
+            .map(|k| [k * NODE_DOFS, k * NODE_DOFS + 1, k * NODE_DOFS + 2, piston])
+            .collect();
+        let mut groups: Vec<(usize, &[usize])> = vec![
+            (QUAD_DOFS, quad_dofs.as_flattened()),
+            (4, blocks.as_flattened()),
+        ];
+        if parts.shells.is_some() {
+            groups.push((ELEMENT_DOFS, shell_dofs.as_flattened()));
+        }
+        let asm = Assembly::new(DofMap::new(constrained), &groups, &[]);
+        let shells = parts.shells.map(|s| {
+            ElementSet::new(s.to_vec(), shell_dofs.clone(), &asm).with_frames(parts.frames)
+        });
+        let quads = ElementSet::new(parts.quads.to_vec(), quad_dofs, &asm);
+        let mut contact = ContactPointSet::new(
+            parts.law,
+            vec![parts.piston.clone()],
+            Connectivity::new(blocks, &asm),
+            [0, 0],
+        );
+        contact.set_points(vec![[1.0]], parts.node_area);
+        Self {
+            asm,
+            shells,
+            quads,
+            contact,
+        }
+    }
+}
+
+/// Geometry of the plate and the bag's ends.
+#[derive(Clone, Debug)]
+struct Ends {
+    /// Nodes of the bead ring and their offsets from the plate centre in the plate's frame [m].
+    bead: Vec<(usize, Vector3<f64>)>,
+    /// Vector area of the plate cap in the plate's frame (along +z) [m²].
+    plate_area: Vector3<f64>,
+    /// Bag volume below the piston-top cap: `(1/3) x · A` of that cap [m³] (constant).
+    clamp_cap: f64,
+}
+
+/// The port block and the volume derivative of a committed state.
+#[derive(Clone, Copy, Debug)]
+struct Condensed {
+    /// `∂(fx, fy, fz, mx, my)/∂(x, y, z, rx, ry)`.
+    k: [[f64; PLATE_AXES]; PLATE_AXES],
+    /// `dV/d(x, y, z, rx, ry)` [m², m³].
+    dv: [f64; PLATE_AXES],
+}
+
+/// The condensation's own assembly (every coordinate free), solvers and cache.
+#[derive(Debug)]
+struct Condensation {
+    full: Mech,
+    main_solver: Option<LinearSolver>,
+    main_vals: Vec<f64>,
+    full_vals: Vec<f64>,
+    cache: Option<(u64, Option<Condensed>)>,
+}
+
+/// Work buffers of an evaluation.
+#[derive(Clone, Debug, Default)]
+struct Work {
+    /// Unit pressure load (= volume gradient on the free nodes), full.
+    g: Vec<f64>,
+    /// Pose, rates and second rates of the plate of the evaluation.
+    pose: [[f64; PLATE_AXES]; 3],
+}
+
+/// The air-spring model at the shell level.
+pub struct AirSpringShell {
+    n_circ: usize,
+    n_mer: usize,
+    n_nodes: usize,
+    st: FramedState,
+    main: Mech,
+    cond: RefCell<Condensation>,
+    ends: Ends,
+    /// Equal-area radius factor.
+    scale: f64,
+    gas: Gas,
+    ambient: f64,
+    v_charge: f64,
+    inputs: Vec<Input>,
+    outputs: Vec<Output>,
+    plate: PlateInput,
+    static_from: [f64; PLATE_AXES],
+    statics: bool,
+    hold: bool,
+    initialized: bool,
+    /// Committed plate pose.
+    pose: [f64; PLATE_AXES],
+    /// Committed `(fx, fy, fz, mx, my)` [N, N m].
+    force: [f64; PLATE_AXES],
+    /// The fixed gauge pressure of the last constant-pressure equilibrium [Pa].
+    pressure_now: f64,
+    scales: Vec<f64>,
+    work: Work,
+    last_strain: f64,
+    strain: f64,
+    kinetic: f64,
+    plate_work: f64,
+    contact_loss: f64,
+    last_damping_power: f64,
+    commits: u64,
+    mass_per_area: f64,
+}
+
+impl std::fmt::Debug for AirSpringShell {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AirSpringShell")
+            .field("n_circ", &self.n_circ)
+            .field("n_mer", &self.n_mer)
+            .field("t", &self.st.t)
+            .finish()
+    }
+}
+
+/// Rotation, spatial tangent of the tilt `(rx, ry, 0)`.
+fn tilt(pose: &[f64; PLATE_AXES]) -> (Matrix3<f64>, Matrix3<f64>) {
+    let th = Vector3::new(pose[3], pose[4], 0.0);
+    (exp_so3(&th), tangent_spatial(&th))
+}
+
+impl AirSpringShell {
+    /// Builds the model and solves the design state. Errors name the parameter.
+    pub fn build(scene: &AirSpringScene, p: &ParamValues) -> Result<Self, String> {
+        let n_circ = p.integer(MESH_N_CIRCUMFERENTIAL).max(3) as usize;
+        let n_mer = p.integer(MESH_N_MERIDIONAL).max(2) as usize;
+        let s = equal_area_factor(n_circ);
+        // the axisymmetric design state of the membrane level
+        let axisym = super::model::AirSpring::build(scene, p)?;
+        let contour = piston_contour(scene, p);
+        let clamp = *contour.last().expect("two points");
+        let rb = p.real(TOP_PLATE_BEAD_RADIUS);
+        let r0 = p.real(BELLOWS_SLEEVE_RADIUS);
+        let length = p.real(BELLOWS_SLEEVE_LENGTH);
+        let hd = p.real(SPRING_DESIGN_HEIGHT);
+        let pd = p.real(GAS_PRESSURE_DESIGN);
+        let thickness = p.real(BELLOWS_THICKNESS);
+        let density = p.real(BELLOWS_DENSITY);
+        let d_bend = p.real(BELLOWS_BENDING_STIFFNESS);
+        let rotations = d_bend > 0.0;
+        let wall = CordRubberWall {
+            cord_stiffness: p.real(BELLOWS_CORD_STIFFNESS),
+            n_plies: p.integer(BELLOWS_N_PLIES).max(1) as usize,
+            cord_angle: p.real(BELLOWS_CORD_ANGLE).to_radians(),
+            matrix_stiffness: p.real(BELLOWS_MATRIX_STIFFNESS),
+            tension_only: p.boolean(BELLOWS_TENSION_ONLY),
+        };
+        let n_rings = n_mer + 1;
+        let n_nodes = n_rings * n_circ;
+        // nodes of a ring interleaved from both sides (0, 1, n−1, 2, n−2, …): neighbours on the
+        // ring, the closing pair included, are at most two apart, so the band of the matrix
+        // is about three nodes wider than a ring
+        let mut order = vec![0];
+        for k in 1..n_circ {
+            for j in [k, n_circ - k] {
+                if order.len() < n_circ && !order.contains(&j) {
+                    order.push(j);
+                }
+            }
+        }
+        let mut slot = vec![0; n_circ];
+        for (p, &j) in order.iter().enumerate() {
+            slot[j] = p;
+        }
+        let node = |i: usize, j: usize| i * n_circ + slot[j % n_circ];
+        let phi = |j: usize| 2.0 * PI * j as f64 / n_circ as f64;
+        // reference sleeve: the cylinder from the bead (z = 0) down
+        let ell = length / n_mer as f64;
+        let reference = |i: usize, j: usize| {
+            Vector3::new(
+                s * r0 * phi(j).cos(),
+                s * r0 * phi(j).sin(),
+                -(i as f64) * ell,
+            )
+        };
+        let mut elements = Vec::with_capacity(n_mer * n_circ);
+        for i in 0..n_mer {
+            for j in 0..n_circ {
+                elements.push([
+                    node(i, j),
+                    node(i + 1, j),
+                    node(i + 1, j + 1),
+                    node(i, j + 1),
+                ]);
+            }
+        }
+        let meridian = Vector3::new(0.0, 0.0, -1.0);
+        let quad_mass = if rotations { 0.0 } else { density * thickness };
+        let mut quads = Vec::with_capacity(elements.len());
+        let mut shells = Vec::new();
+        let mat = ShellMaterial {
+            // D = E t³/12 with ν = 0
+            e: 12.0 * d_bend / thickness.powi(3),
+            nu: 0.0,
+            rho: density,
+            thickness,
+        };
+        let opt = ShellOptions {
+            bending: Bending::V2,
+            drilling: 1e-3,
+            geometric_stiffness: true,
+            membrane: false,
+        };
+        let corners = |el: &[usize; 4]| el.map(|k| reference(k / n_circ, order[k % n_circ]));
+        // the quad's reference data are intrinsic (metric, cord components): the facets differ
+        // by rotations about the axis, so one element serves all
+        quads.push(Arc::new(
+            CordRubberQuad::new(corners(&elements[0]), meridian, wall, quad_mass)
+                .map_err(|e| format!("{e} ({MESH_N_CIRCUMFERENTIAL}, {MESH_N_MERIDIONAL})"))?,
+        ));
+        // the seed-004 element keeps its reference frame: one per facet
+        if rotations {
+            for el in &elements {
+                shells.push(Arc::new(TrapezoidShell::new(corners(el), &mat, &opt).map_err(|e| {
+                    format!("{e} ({BELLOWS_BENDING_STIFFNESS}, {BELLOWS_THICKNESS}, {BELLOWS_DENSITY}, {MESH_N_CIRCUMFERENTIAL}, {MESH_N_MERIDIONAL})")
+                })?));
+            }
+        }
+        let n_full = n_nodes * NODE_DOFS + 1;
+        let piston_coord = n_nodes * NODE_DOFS;
+        let mut constrained = vec![false; n_full];
+        constrained[piston_coord] = true;
+        for j in 0..n_circ {
+            for i in [0, n_mer] {
+                for d in 0..3 {
+                    constrained[node(i, j) * NODE_DOFS + d] = true;
+                }
+            }
+        }
+        if !rotations {
+            for k in 0..n_nodes {
+                for d in 3..6 {
+                    constrained[k * NODE_DOFS + d] = true;
+                }
+            }
+        }
+        let mut frames = NodeFrames::new((0..n_nodes).map(|k| k * NODE_DOFS + 3).collect());
+        // revolve the membrane level's meridian
+        let mer = axisym.meridian();
+        let mut q0 = vec![0.0; n_full];
+        for i in 0..n_rings {
+            let [r, z] = mer[i];
+            let prev = mer[i.saturating_sub(1)];
+            let next = mer[(i + 1).min(n_mer)];
+            let (dr, dz) = (next[0] - prev[0], next[1] - prev[1]);
+            for j in 0..n_circ {
+                let (sn, cs) = phi(j).sin_cos();
+                let k = node(i, j);
+                q0[k * NODE_DOFS..k * NODE_DOFS + 3].copy_from_slice(&[s * r * cs, s * r * sn, z]);
+                // the frame turns about the hoop direction from the reference tangent (down)
+                // to the meridian's
+                let e_phi = Vector3::new(-sn, cs, 0.0);
+                let t = Vector3::new(dr * cs, dr * sn, dz);
+                let t0 = Vector3::new(0.0, 0.0, -1.0);
+                let beta = t0.cross(&t).dot(&e_phi).atan2(t0.dot(&t));
+                frames.set_reference(k, UnitQuaternion::from_scaled_axis(e_phi * beta));
+            }
+        }
+        let area = 2.0 * PI * r0 * length / (n_circ * n_mer) as f64;
+        let law = ContactLaw {
+            k_n: p.real(CONTACT_STIFFNESS),
+            d_n: 0.0,
+            k_t: 0.0,
+            d_t: 0.0,
+            mu: 0.0,
+            smoothing: 1e-5,
+            blend: 0.0,
+        };
+        let piston = AxisymObstacle::Piston {
+            contour: contour.iter().map(|c| [s * c[0], c[1]]).collect(),
+        };
+        let parts = MechParts {
+            shells: rotations.then_some(&shells[..]),
+            quads: &quads,
+            elements: &elements,
+            n_nodes,
+            frames: &frames,
+            law,
+            piston,
+            node_area: area,
+        };
+        let main = Mech::new(&parts, &constrained);
+        let full = Mech::new(&parts, &vec![false; n_full]);
+        let asm = main.asm.clone();
+        let scales = asm
+            .dofs
+            .free_to_full()
+            .iter()
+            .map(|&i| if i % NODE_DOFS < 3 { length } else { 1.0 })
+            .collect();
+        let bead = (0..n_circ)
+            .map(|j| {
+                let (sn, cs) = phi(j).sin_cos();
+                (node(0, j), Vector3::new(s * rb * cs, s * rb * sn, 0.0))
+            })
+            .collect();
+        let poly =
+            |r: f64| 0.5 * n_circ as f64 * (s * r).powi(2) * (2.0 * PI / n_circ as f64).sin();
+        let ends = Ends {
+            bead,
+            plate_area: Vector3::new(0.0, 0.0, poly(rb)),
+            clamp_cap: -clamp[1] * poly(clamp[0]) / 3.0,
+        };
+        let gp = gas_params(p, scene);
+        let io = io(scene);
+        let mut model = Self {
+            n_circ,
+            n_mer,
+            n_nodes,
+            st: FramedState::new(asm, frames, q0),
+            main,
+            cond: RefCell::new(Condensation {
+                full,
+                main_solver: None,
+                main_vals: vec![],
+                full_vals: vec![],
+                cache: None,
+            }),
+            ends,
+            scale: s,
+            gas: Gas::new(gp, pd, 1.0).map_err(|e| gas_error(e, &gp))?,
+            ambient: gp.ambient_pressure,
+            v_charge: 0.0,
+            inputs: io.inputs,
+            outputs: io.outputs,
+            plate: PlateInput::at_rest(hd),
+            static_from: PlateInput::at_rest(hd).targets(),
+            statics: false,
+            hold: false,
+            initialized: false,
+            pose: PlateInput::at_rest(hd).targets(),
+            force: [0.0; PLATE_AXES],
+            pressure_now: pd,
+            scales,
+            work: Work {
+                g: vec![0.0; n_full],
+                pose: [[0.0; PLATE_AXES]; 3],
+            },
+            last_strain: 0.0,
+            strain: 0.0,
+            kinetic: 0.0,
+            plate_work: 0.0,
+            contact_loss: 0.0,
+            last_damping_power: 0.0,
+            commits: 0,
+            mass_per_area: density * thickness,
+        };
+        model.prescribe_pose(&model.pose.clone(), true);
+        let pose = model.pose;
+        model
+            .continuation(pose, pose, Pressure::Fixed(pd))
+            .map_err(|e| format!("design state of the shell level: {e}"))?;
+        let vd = model.bag_volume(&model.st.q, &pose);
+        model.gas.charge(pd, vd).map_err(|e| gas_error(e, &gp))?;
+        model.v_charge = model.gas.committed().volume;
+        model
+            .commit_reaction()
+            .map_err(|e| gas_error(format!("design state: {e}"), &gp))?;
+        Ok(model)
+    }
+
+    /// Number of elements `(around, along)`.
+    pub fn mesh(&self) -> (usize, usize) {
+        (self.n_circ, self.n_mer)
+    }
+
+    /// Number of free coordinates.
+    pub fn n_free_coordinates(&self) -> usize {
+        self.st.asm.dofs.n_free()
+    }
+
+    /// The gas component.
+    pub fn gas(&self) -> &Gas {
+        &self.gas
+    }
+
+    /// Committed `(fx, fy, fz, mx, my)` on the plate [N, N m] (without extrapolation).
+    pub fn committed_force(&self) -> [f64; PLATE_AXES] {
+        self.force
+    }
+
+    /// Moves the plate quasi-statically to `pose` (axes as [`PLATE_AXES`]) with the gas closed
+    /// and at rest, from the committed shape; returns the committed `(fx, fy, fz, mx, my)`.
+    /// For tools and tests, before a simulation starts.
+    pub fn move_plate(&mut self, pose: [f64; PLATE_AXES]) -> Result<[f64; PLATE_AXES], String> {
+        let from = self.pose;
+        self.continuation(from, pose, Pressure::Static)?;
+        let vb = self.bag_volume(&self.st.q, &self.pose);
+        self.gas.set_static(vb).map_err(|e| e.to_string())?;
+        self.commit_reaction().map_err(|e| e.to_string())?;
+        Ok(self.force)
+    }
+
+    /// The port block `∂(fx, fy, fz, mx, my)/∂(x, y, z, rx, ry)` of the committed state (the
+    /// static condensation with the gas), and `dV/d(x, y, z, rx, ry)`.
+    #[allow(clippy::type_complexity)]
+    pub fn port_block(&self) -> Option<([[f64; PLATE_AXES]; PLATE_AXES], [f64; PLATE_AXES])> {
+        self.condensed().map(|c| (c.k, c.dv))
+    }
+
+    /// Node positions of the committed state [m].
+    pub fn nodes(&self) -> Vec<Vector3<f64>> {
+        (0..self.n_nodes)
+            .map(|k| self.node(&self.st.q, k))
+            .collect()
+    }
+
+    fn node(&self, q: &[f64], k: usize) -> Vector3<f64> {
+        Vector3::from_column_slice(&q[k * NODE_DOFS..k * NODE_DOFS + 3])
+    }
+
+    /// Plate centre and rotation of a pose.
+    fn plate_frame(pose: &[f64; PLATE_AXES]) -> (Vector3<f64>, Matrix3<f64>, Matrix3<f64>) {
+        let (r, ts) = tilt(pose);
+        (Vector3::new(pose[0], pose[1], pose[2]), r, ts)
+    }
+
+    /// Bag volume at full coordinates `q` with the plate at `pose` (without
+    /// `gas.inner_volume`) [m³].
+    fn bag_volume(&self, q: &[f64], pose: &[f64; PLATE_AXES]) -> f64 {
+        let conn = self.main.quads.connectivity();
+        let mut v = 0.0;
+        for e in 0..conn.len() {
+            let d = conn.dofs(e);
+            let x: [Vector3<f64>; 4] = std::array::from_fn(|i| {
+                Vector3::new(q[d[3 * i]], q[d[3 * i + 1]], q[d[3 * i + 2]])
+            });
+            v += volume_part(&x);
+        }
+        let (c, r, _) = Self::plate_frame(pose);
+        v + c.dot(&(r * self.ends.plate_area)) / 3.0 + self.ends.clamp_cap
+    }
+
+    /// Prescribed pose, rates and second rates at `t` (in a static solve at load factor `lambda`).
+    fn plate_motion(&self, t: f64, lambda: f64) -> [[f64; PLATE_AXES]; 3] {
+        let mut out = [[0.0; PLATE_AXES]; 3];
+        if self.statics {
+            let to = self.plate.targets();
+            for i in 0..PLATE_AXES {
+                out[0][i] = self.static_from[i] + lambda * (to[i] - self.static_from[i]);
+            }
+            return out;
+        }
+        for i in 0..PLATE_AXES {
+            let (x, v, a) = self.plate.axis_motion(i, t);
+            out[0][i] = if self.hold && t == self.st.t {
+                self.pose[i]
+            } else {
+                x
+            };
+            out[1][i] = v;
+            out[2][i] = a;
+        }
+        out
+    }
+
+    /// Writes the bead ring's positions (and, with `rates`, velocities and accelerations of
+    /// `self.work.pose`) into the work buffers for the pose `pose`.
+    fn prescribe_pose(&mut self, pose: &[f64; PLATE_AXES], rest: bool) {
+        self.work.pose[0] = *pose;
+        if rest {
+            self.work.pose[1] = [0.0; PLATE_AXES];
+            self.work.pose[2] = [0.0; PLATE_AXES];
+        }
+        let [u, ud, udd] = self.work.pose;
+        let (c, r, ts) = Self::plate_frame(&u);
+        let omega = ts * Vector3::new(ud[3], ud[4], 0.0);
+        let alpha = ts * Vector3::new(udd[3], udd[4], 0.0);
+        let (cd, cdd) = (
+            Vector3::new(ud[0], ud[1], ud[2]),
+            Vector3::new(udd[0], udd[1], udd[2]),
+        );
+        for &(k, rho) in &self.ends.bead {
+            let arm = r * rho;
+            let x = c + arm;
+            let v = cd + omega.cross(&arm);
+            let a = cdd + alpha.cross(&arm) + omega.cross(&omega.cross(&arm));
+            let i = k * NODE_DOFS;
+            for d in 0..3 {
+                self.st.qw[i + d] = x[d];
+                self.st.vw[i + d] = v[d];
+                self.st.aw[i + d] = a[d];
+            }
+        }
+    }
+
+    /// Fills the work buffers with the full state at `t` from free `q`, `v`, `a`.
+    fn fill_work(&mut self, t: f64, lambda: f64, q: &[f64], v: &[f64], a: &[f64]) {
+        self.st.expand(q, v, a);
+        self.work.pose = self.plate_motion(t, lambda);
+        let pose = self.work.pose[0];
+        self.prescribe_pose(&pose, false);
+    }
+
+    /// The gauge pressure [Pa] and `dp/dV` [Pa/m³] at the bag volume `vb` [m³].
+    fn pressure(&self, mode: Pressure, vb: f64) -> Result<(f64, f64), ModelError> {
+        let bad = |_e| ModelError::NonFinite;
+        match mode {
+            Pressure::Fixed(p) => Ok((p, 0.0)),
+            Pressure::Step(dt) => {
+                let e = self.gas.evaluate(dt, vb).map_err(bad)?;
+                Ok((e.p_gauge, e.dp_dv))
+            }
+            Pressure::Static => {
+                let (p, d) = self.gas.static_pressure(vb).map_err(bad)?;
+                Ok((p - self.ambient, d))
+            }
+        }
+    }
+
+    /// Residual of `mech` at the work state into the full `f` (with the iteration matrix if
+    /// asked, the rank-one part if its buffer is long enough); the unit pressure load into
+    /// `g`. Returns the strain energy [J].
+    #[allow(clippy::too_many_arguments)]
+    fn assemble(
+        mech: &mut Mech,
+        st: &mut FramedState,
+        g: &mut [f64],
+        p_g: f64,
+        dp_dv: f64,
+        f: &mut [f64],
+        mut jac: Option<(JacobianCoeffs, &mut [f64])>,
+    ) -> f64 {
+        f.fill(0.0);
+        g.fill(0.0);
+        if let Some((_, vals)) = jac.as_mut() {
+            vals.fill(0.0);
+        }
+        let x = Eval {
+            q: &st.qw,
+            v: &st.vw,
+            a: &st.aw,
+            g: Vector3::zeros(),
+        };
+        let mut u = mech
+            .quads
+            .add_residual(&x, None, f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+        if let Some(s) = &mech.shells {
+            u += s.add_residual(
+                &x,
+                Some(&mut st.frames),
+                f,
+                jac.as_mut().map(|(c, v)| (*c, &mut **v)),
+            );
+        }
+        let conn = mech.quads.connectivity();
+        let (mut fe, mut ke) = (SVector::<f64, 12>::zeros(), SMatrix::<f64, 12, 12>::zeros());
+        for e in 0..conn.len() {
+            let d = conn.dofs(e);
+            let xe: [Vector3<f64>; 4] = std::array::from_fn(|i| {
+                Vector3::new(st.qw[d[3 * i]], st.qw[d[3 * i + 1]], st.qw[d[3 * i + 2]])
+            });
+            match jac.as_mut() {
+                Some((c, vals)) => {
+                    pressure_into(&xe, 1.0, &mut fe, Some(&mut ke));
+                    conn.add_matrix(e, &ke, -c.stiffness * p_g, vals);
+                }
+                None => pressure_into(&xe, 1.0, &mut fe, None),
+            }
+            conn.add_vector(e, &fe, 1.0, g);
+        }
+        for (fi, gi) in f.iter_mut().zip(g.iter()) {
+            *fi -= p_g * gi;
+        }
+        mech.contact
+            .add_residual(&st.qw, &st.vw, f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+        if let Some((c, vals)) = jac {
+            let nnz = mech.asm.pattern.nnz();
+            if vals.len() == rank_one_len(&mech.asm.pattern) {
+                vals[nnz] = -c.stiffness * dp_dv;
+                for (i, &full) in mech.asm.dofs.free_to_full().iter().enumerate() {
+                    vals[nnz + 1 + i] = g[full];
+                }
+            }
+        }
+        u
+    }
+
+    /// Residual and iteration matrix on the free coordinates at the work state.
+    fn evaluate_filled(
+        &mut self,
+        mode: Pressure,
+        r: &mut [f64],
+        jac: Option<(JacobianCoeffs, &mut [f64])>,
+    ) -> Result<(), ModelError> {
+        let vb = self.bag_volume(&self.st.qw, &self.work.pose[0]);
+        if !(vb.is_finite() && vb > 0.0) {
+            return Err(ModelError::NonFinite);
+        }
+        let (p_g, dp_dv) = self.pressure(mode, vb)?;
+        let check = jac.is_some();
+        let mut jac = jac;
+        let mut f = std::mem::take(&mut self.st.fw);
+        self.last_strain = Self::assemble(
+            &mut self.main,
+            &mut self.st,
+            &mut self.work.g,
+            p_g,
+            dp_dv,
+            &mut f,
+            jac.as_mut().map(|(c, v)| (*c, &mut **v)),
+        );
+        let res = self.st.finish_assembly(
+            f,
+            r,
+            if check {
+                jac.as_ref().map(|(_, v)| &**v)
+            } else {
+                None
+            },
+        );
+        if !self.last_strain.is_finite() {
+            return Err(ModelError::NonFinite);
+        }
+        res
+    }
+
+    /// Force and moment on the plate of the residual in `self.st.fw` at the work pose and the
+    /// gauge pressure `p_g` [Pa].
+    fn plate_load(&self, p_g: f64) -> [f64; PLATE_AXES] {
+        let (c, r, _) = Self::plate_frame(&self.work.pose[0]);
+        let mut force = r * self.ends.plate_area * p_g;
+        let mut moment = Vector3::zeros();
+        for &(k, _) in &self.ends.bead {
+            let i = k * NODE_DOFS;
+            let rk = Vector3::new(self.st.fw[i], self.st.fw[i + 1], self.st.fw[i + 2]);
+            force -= rk;
+            moment -= (self.node(&self.st.qw, k) - c).cross(&rk);
+        }
+        [force.x, force.y, force.z, moment.x, moment.y]
+    }
+
+    /// Pseudo-transient continuation (`(K + c M) Δq = −r`, `c` shrinking with the residual)
+    /// moving the plate from pose `from` to `to` under the gas mode `mode`, from the committed
+    /// shape, in levels of at most an element length of plate motion.
+    fn continuation(
+        &mut self,
+        from: [f64; PLATE_AXES],
+        to: [f64; PLATE_AXES],
+        mode: Pressure,
+    ) -> Result<(), String> {
+        let n = self.st.asm.dofs.n_free();
+        let length = self.scales.iter().fold(0.0f64, |a, &b| a.max(b));
+        let ell = length / self.n_mer as f64;
+        let dist = (0..3)
+            .map(|i| (to[i] - from[i]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+            + (to[3].hypot(to[4]) - from[3].hypot(from[4])).abs() * length;
+        let max_step = if dist > 0.0 {
+            (ell / dist).min(0.25)
+        } else {
+            1.0
+        };
+        let mut step = max_step.min(1.0);
+        let mut ws = crate::solver::Workspace::new(&*self, solver_kind(&self.st.asm.pattern))
+            .map_err(|e| e.to_string())?;
+        let mut x = vec![0.0; n];
+        self.st.asm.dofs.restrict(&self.st.q, &mut x);
+        let zeros = vec![0.0; n];
+        let c_start = 1e6 / (length * length) * 4.4 / self.mass_per_area.max(1e-300);
+        let p_scale = match mode {
+            Pressure::Fixed(p) => p.abs(),
+            _ => self.gas.committed().p_gauge.abs(),
+        }
+        .max(1e3);
+        let r_scale = p_scale * length * length / (self.n_mer * self.n_circ) as f64;
+        let mut level = 0.0f64;
+        let mut last_err = String::new();
+        let frames_saved = self.st.frames.clone();
+        let q_saved = self.st.q.clone();
+        while level < 1.0 {
+            let target = (level + step).min(1.0);
+            let saved = x.clone();
+            let frames_level = self.st.frames.clone();
+            let mut pose = [0.0; PLATE_AXES];
+            for i in 0..PLATE_AXES {
+                pose[i] = from[i] + target * (to[i] - from[i]);
+            }
+            let mut c = 1e-2 * c_start;
+            let mut r_old = f64::INFINITY;
+            let mut ok = false;
+            for _ in 0..200 {
+                self.st.expand(&x, &zeros, &zeros);
+                self.prescribe_pose(&pose, true);
+                let coeffs = JacobianCoeffs {
+                    mass: c,
+                    damping: 0.0,
+                    stiffness: 1.0,
+                };
+                if let Err(e) = self.evaluate_filled(mode, &mut ws.r, Some((coeffs, &mut ws.jac))) {
+                    last_err = e.to_string();
+                    break;
+                }
+                let r_norm = ws.r.iter().map(|v| v * v).sum::<f64>().sqrt();
+                if let Err(e) = ws.solver.factor(&ws.pattern, &ws.jac) {
+                    last_err = e.to_string();
+                    break;
+                }
+                for (d, r) in ws.dx.iter_mut().zip(&ws.r) {
+                    *d = -r;
+                }
+                ws.solver.solve_in_place(&mut ws.dx);
+                let inc = ws
+                    .dx
+                    .iter()
+                    .zip(&self.scales)
+                    .map(|(d, s)| (d / s).abs())
+                    .fold(0.0, f64::max);
+                if !inc.is_finite() {
+                    last_err = "non-finite increment".into();
+                    break;
+                }
+                let cap = 0.25 / self.n_mer as f64;
+                let sc = if inc > cap { cap / inc } else { 1.0 };
+                for (xi, d) in x.iter_mut().zip(&ws.dx) {
+                    *xi += sc * d;
+                }
+                // absorb the rotations: the increments stay small
+                let mut full = std::mem::take(&mut self.st.q);
+                self.st.asm.dofs.expand(&x, &mut full);
+                self.st.frames.absorb(&mut full);
+                self.st.asm.dofs.restrict(&full, &mut x);
+                self.st.q = full;
+                if r_norm.is_finite() && r_old.is_finite() {
+                    c *= (r_norm / r_old).clamp(0.1, 4.0);
+                }
+                r_old = r_norm;
+                if std::env::var("AIRSPRING_DEBUG").is_ok() {
+                    eprintln!(
+                        "shell level {target:.3} |r| {r_norm:.3e} inc {inc:.3e} scale {sc:.2e} c {c:.3e}"
+                    );
+                }
+                if inc < 1e-10 && sc == 1.0 && r_norm < 1e-8 * r_scale {
+                    ok = true;
+                    break;
+                }
+                if c < 1e-8 {
+                    c = 0.0;
+                }
+            }
+            if ok {
+                level = target;
+                step = (step * 1.5).min(max_step);
+            } else {
+                x = saved;
+                self.st.frames = frames_level;
+                step *= 0.5;
+                if step < 1e-3 {
+                    self.st.frames = frames_saved;
+                    self.st.q = q_saved;
+                    return Err(format!(
+                        "no static equilibrium of the shell sleeve from pose {from:?} to {to:?} (reached {:.0} % of the way: {last_err}); the membrane level of the same parameters found one: try a finer {MESH_N_CIRCUMFERENTIAL}, or a {BELLOWS_BENDING_STIFFNESS}",
+                        100.0 * level
+                    ));
+                }
+            }
+        }
+        let mut q = std::mem::take(&mut self.st.q);
+        self.st.asm.dofs.expand(&x, &mut q);
+        self.st.qw.copy_from_slice(&q);
+        self.st.q = q;
+        self.prescribe_pose(&to, true);
+        let qw = self.st.qw.clone();
+        for &(k, _) in &self.ends.bead {
+            let i = k * NODE_DOFS;
+            self.st.q[i..i + 3].copy_from_slice(&qw[i..i + 3]);
+        }
+        self.st.v.fill(0.0);
+        self.st.acc.fill(0.0);
+        self.pose = to;
+        self.plate = PlateInput::at_pose(&to);
+        self.pressure_now = match mode {
+            Pressure::Fixed(p) => p,
+            _ => {
+                let vb = self.bag_volume(&self.st.q, &to);
+                self.gas
+                    .static_pressure(vb)
+                    .map_or(0.0, |(p, _)| p - self.ambient)
+            }
+        };
+        self.commits += 1;
+        Ok(())
+    }
+
+    /// Evaluates the committed state (its accelerations) and books the plate load and the
+    /// energies.
+    fn commit_reaction(&mut self) -> Result<(), ModelError> {
+        let n = self.st.asm.dofs.n_free();
+        let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        self.st.asm.dofs.restrict(&self.st.q, &mut q);
+        self.st.asm.dofs.restrict(&self.st.v, &mut v);
+        self.st.asm.dofs.restrict(&self.st.acc, &mut a);
+        self.st.expand(&q, &v, &a);
+        let pose = self.pose;
+        self.work.pose[0] = pose;
+        // the committed bead motion: rates of the inputs at the committed time
+        for i in 0..PLATE_AXES {
+            let (_, rate, acc) = self.plate.axis_motion(i, self.st.t);
+            self.work.pose[1][i] = rate;
+            self.work.pose[2][i] = acc;
+        }
+        self.prescribe_pose(&pose, false);
+        let mut r = vec![0.0; n];
+        self.evaluate_filled(Pressure::Step(0.0), &mut r, None)?;
+        let p_g = self
+            .gas
+            .evaluate(0.0, self.bag_volume(&self.st.qw, &pose))
+            .map_err(|_| ModelError::NonFinite)?
+            .p_gauge;
+        self.force = self.plate_load(p_g);
+        self.strain = self.last_strain;
+        let mut ke = self
+            .main
+            .quads
+            .kinetic_energy(&self.st.qw, &self.st.vw, None);
+        if let Some(s) = &self.main.shells {
+            ke += s.kinetic_energy(&self.st.qw, &self.st.vw, Some(&self.st.frames));
+        }
+        self.kinetic = ke;
+        Ok(())
+    }
+
+    /// The port block of the committed state, computed on the first request after a commit.
+    fn condensed(&self) -> Option<Condensed> {
+        let mut guard = self.cond.borrow_mut();
+        let cond = &mut *guard;
+        if let Some((k, c)) = cond.cache
+            && k == self.commits
+        {
+            return c;
+        }
+        let c = self.compute_condensed(cond);
+        cond.cache = Some((self.commits, c));
+        c
+    }
+
+    /// Static condensation at the committed state (at rest, the gas's instantaneous `dp/dV`):
+    /// for each plate axis `j` the bead ring's motion `T_j`, the shape change
+    /// `y_j = −K_ff⁻¹ ∂r_f/∂u_j` (with the rank-one gas term), and the change of the plate load.
+    fn compute_condensed(&self, cond: &mut Condensation) -> Option<Condensed> {
+        let Condensation {
+            full,
+            main_solver,
+            main_vals,
+            full_vals,
+            ..
+        } = cond;
+        let mut st = self.st.clone();
+        st.qw.copy_from_slice(&self.st.q);
+        st.vw.fill(0.0);
+        st.aw.fill(0.0);
+        let n_full = st.q.len();
+        let mut g = vec![0.0; n_full];
+        let mut f = vec![0.0; n_full];
+        let vb = self.bag_volume(&self.st.q, &self.pose);
+        let e = self.gas.evaluate(0.0, vb).ok()?;
+        let (p_g, dp_dv) = (e.p_gauge, e.dp_dv);
+        let coeffs = JacobianCoeffs {
+            mass: 0.0,
+            damping: 0.0,
+            stiffness: 1.0,
+        };
+        // the main system (free coordinates, rank-one gas term)
+        let mut main = self.main.clone();
+        if main_solver.is_none() {
+            *main_solver =
+                Some(LinearSolver::new(&main.asm.pattern, solver_kind(&main.asm.pattern)).ok()?);
+            *main_vals = vec![0.0; rank_one_len(&main.asm.pattern)];
+            *full_vals = vec![0.0; full.asm.pattern.nnz()];
+        }
+        let solver = main_solver.as_mut()?;
+        Self::assemble(
+            &mut main,
+            &mut st,
+            &mut g,
+            p_g,
+            dp_dv,
+            &mut f,
+            Some((coeffs, &mut main_vals[..])),
+        );
+        solver.factor(&main.asm.pattern, main_vals).ok()?;
+        // every coordinate free: K over all rows and columns, and the residual of the state
+        Self::assemble(
+            full,
+            &mut st,
+            &mut g,
+            p_g,
+            0.0,
+            &mut f,
+            Some((coeffs, &mut full_vals[..])),
+        );
+        let dofs = &main.asm.dofs;
+        let n_free = dofs.n_free();
+        // ∂V/∂q of every patch (for the direct volume change of a plate motion)
+        let conn = main.quads.connectivity();
+        let mut vgrad = vec![0.0; n_full];
+        for el in 0..conn.len() {
+            let d = conn.dofs(el);
+            let xe: [Vector3<f64>; 4] = std::array::from_fn(|i| {
+                Vector3::new(st.qw[d[3 * i]], st.qw[d[3 * i + 1]], st.qw[d[3 * i + 2]])
+            });
+            let ge = volume_part_gradient(&xe);
+            for (a, &i) in d.iter().enumerate() {
+                vgrad[i] += ge[a];
+            }
+        }
+        let pose = self.pose;
+        let (c, r, ts) = Self::plate_frame(&pose);
+        let a_out = r * self.ends.plate_area;
+        let mut out = Condensed {
+            k: [[0.0; PLATE_AXES]; PLATE_AXES],
+            dv: [0.0; PLATE_AXES],
+        };
+        let mut t = vec![0.0; n_full];
+        let mut kt = vec![0.0; n_full];
+        let mut y = vec![0.0; n_free];
+        let mut dfull = vec![0.0; n_full];
+        let mut dr = vec![0.0; n_full];
+        for j in 0..PLATE_AXES {
+            // T_j and the turn of the plate frame
+            t.fill(0.0);
+            let turn = if j >= 3 {
+                Some(ts * Vector3::ith(j - 3, 1.0))
+            } else {
+                None
+            };
+            for &(k, rho) in &self.ends.bead {
+                let dx = match turn {
+                    Some(w) => w.cross(&(r * rho)),
+                    None => Vector3::ith(j, 1.0),
+                };
+                t[k * NODE_DOFS..k * NODE_DOFS + 3].copy_from_slice(dx.as_slice());
+            }
+            // the direct volume change (patches and the plate cap)
+            let mut vdir: f64 = vgrad.iter().zip(&t).map(|(a, b)| a * b).sum();
+            vdir += match turn {
+                Some(w) => c.dot(&w.cross(&a_out)) / 3.0,
+                None => a_out[j] / 3.0,
+            };
+            full.asm.pattern.mul_vec(full_vals, &t, &mut kt);
+            // ∂r_f/∂u_j = (K T)_f − dp/dV vdir g_f; y = −K_ff⁻¹ that
+            for (i, &fi) in dofs.free_to_full().iter().enumerate() {
+                y[i] = -(kt[fi] - dp_dv * vdir * g[fi]);
+            }
+            solver.solve_in_place(&mut y);
+            dfull.copy_from_slice(&t);
+            let mut dv = vdir;
+            for (i, &fi) in dofs.free_to_full().iter().enumerate() {
+                dfull[fi] = y[i];
+                dv += g[fi] * y[i];
+            }
+            let dp = dp_dv * dv;
+            full.asm.pattern.mul_vec(full_vals, &dfull, &mut dr);
+            let mut df = a_out * dp
+                + match turn {
+                    Some(w) => w.cross(&a_out) * p_g,
+                    None => Vector3::zeros(),
+                };
+            let mut dm = Vector3::zeros();
+            for &(k, _) in &self.ends.bead {
+                let i = k * NODE_DOFS;
+                let drk = Vector3::new(dr[i], dr[i + 1], dr[i + 2])
+                    - Vector3::new(g[i], g[i + 1], g[i + 2]) * dp;
+                let rk = Vector3::new(f[i], f[i + 1], f[i + 2]);
+                let arm = self.node(&st.qw, k) - c;
+                let darm = match turn {
+                    Some(w) => w.cross(&arm),
+                    None => Vector3::zeros(),
+                };
+                df -= drk;
+                dm -= darm.cross(&rk) + arm.cross(&drk);
+            }
+            let col = [df.x, df.y, df.z, dm.x, dm.y];
+            for (i, v) in col.iter().enumerate() {
+                out.k[i][j] = *v;
+            }
+            out.dv[j] = dv;
+        }
+        Some(out)
+    }
+
+    /// Largest distance of a node from the axis, as the radius of the circle its ring stands
+    /// for [m].
+    fn lobe_radius(&self) -> f64 {
+        (0..self.n_nodes)
+            .map(|k| self.node(&self.st.q, k).xy().norm())
+            .fold(0.0, f64::max)
+            / self.scale
+    }
+
+    fn output_index(o: Output) -> Option<usize> {
+        Some(match o {
+            Output::TopFx => 0,
+            Output::TopFy => 1,
+            Output::TopFz => 2,
+            Output::TopMx => 3,
+            Output::TopMy => 4,
+            _ => return None,
+        })
+    }
+
+    fn value(&self, o: Output) -> f64 {
+        if let Some(v) = gas_output(o, &self.gas, self.v_charge) {
+            return v;
+        }
+        if let Some(i) = Self::output_index(o) {
+            // extrapolated to the plate inputs at the committed time
+            let du: Vec<f64> = (0..PLATE_AXES)
+                .map(|j| self.plate.axis_motion(j, self.st.t).0 - self.pose[j])
+                .collect();
+            if du.iter().all(|d| *d == 0.0) {
+                return self.force[i];
+            }
+            return match self.condensed() {
+                Some(c) => self.force[i] + (0..PLATE_AXES).map(|j| c.k[i][j] * du[j]).sum::<f64>(),
+                None => self.force[i],
+            };
+        }
+        let e = self.gas.committed();
+        match o {
+            Output::Height => self.pose[AXIS_Z],
+            Output::EffectiveArea => {
+                if e.p_gauge != 0.0 {
+                    self.force[2] / e.p_gauge
+                } else {
+                    f64::NAN
+                }
+            }
+            Output::VolumetricArea => self.condensed().map_or(f64::NAN, |c| c.dv[AXIS_Z]),
+            Output::Stiffness => self.condensed().map_or(f64::NAN, |c| -c.k[2][AXIS_Z]),
+            Output::LobeRadius => self.lobe_radius(),
+            Output::StrainEnergy => self.strain,
+            Output::KineticEnergy => self.kinetic,
+            Output::PlateWork => self.plate_work,
+            Output::Dissipated => e.heat_out + e.loss_work + self.contact_loss,
+            _ => f64::NAN,
+        }
+    }
+}
+
+impl MechanicalSystem for AirSpringShell {
+    fn n_free(&self) -> usize {
+        self.st.asm.dofs.n_free()
+    }
+
+    fn pattern(&self) -> &CscPattern {
+        &self.st.asm.pattern
+    }
+
+    fn scales(&self) -> &[f64] {
+        &self.scales
+    }
+
+    fn rank_one(&self) -> bool {
+        true
+    }
+
+    fn residual(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        load_factor: f64,
+        r: &mut [f64],
+        jac: Option<(JacobianCoeffs, &mut [f64])>,
+    ) -> Result<(), ModelError> {
+        let mode = if self.statics {
+            Pressure::Static
+        } else {
+            Pressure::Step((t - self.st.t).max(0.0))
+        };
+        self.fill_work(t, load_factor, q, v, a);
+        self.evaluate_filled(mode, r, jac)
+    }
+
+    /// The plain implicit midpoint rule: the residual at `(q_a + q_b)/2` (in the chart of the
+    /// stored orientations) and the midpoint time, the stiffness coefficient halved.
+    fn midpoint_residual(
+        &mut self,
+        t_a: f64,
+        t_b: f64,
+        q_a: &[f64],
+        q_b: &[f64],
+        v: &[f64],
+        a: &[f64],
+        r: &mut [f64],
+        jac: Option<(JacobianCoeffs, &mut [f64])>,
+    ) -> Result<(), ModelError> {
+        let tm = 0.5 * (t_a + t_b);
+        self.st.expand_midpoint(q_a, q_b, v, a);
+        self.work.pose = self.plate_motion(tm, 1.0);
+        let pose = self.work.pose[0];
+        self.prescribe_pose(&pose, false);
+        let jac = jac.map(|(c, vals)| {
+            (
+                JacobianCoeffs {
+                    stiffness: 0.5 * c.stiffness,
+                    ..c
+                },
+                vals,
+            )
+        });
+        self.evaluate_filled(Pressure::Step((tm - self.st.t).max(0.0)), r, jac)
+    }
+
+    fn rebase(&mut self, q: &mut [f64]) {
+        self.st.rebase(q);
+    }
+
+    /// The static solve moves the plate from the last equilibrium to the inputs' pose with its
+    /// load factor.
+    fn hold_for_statics(&mut self, held: bool) {
+        self.statics = held;
+        if held {
+            self.static_from = self.pose;
+        }
+    }
+}
+
+impl Model for AirSpringShell {
+    /// Before the first accepted state, a new plate input moves the charged spring there
+    /// quasi-statically with the gas at rest.
+    fn set_input(&mut self, input: usize, value: f64) {
+        let role = self.inputs[input];
+        let (axis, rate) = role.axis();
+        if !self.initialized && !rate && value.is_finite() && value != self.pose[axis] {
+            let from = self.pose;
+            let mut to = from;
+            to[axis] = value;
+            if self.continuation(from, to, Pressure::Static).is_ok() {
+                return;
+            }
+        }
+        self.plate.set(role, value, self.st.t);
+    }
+
+    fn set_input_derivative(
+        &mut self,
+        input: usize,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String> {
+        self.plate.set_derivative(self.inputs[input], order, value);
+        Ok(())
+    }
+
+    fn output(&self, output: usize) -> f64 {
+        self.value(self.outputs[output])
+    }
+
+    fn output_derivative(&self, output: usize) -> Option<f64> {
+        let o = self.outputs[output];
+        if o == Output::Height {
+            return Some(self.plate.axis_motion(AXIS_Z, self.st.t).1);
+        }
+        let i = Self::output_index(o)?;
+        let c = self.condensed()?;
+        Some(
+            (0..PLATE_AXES)
+                .map(|j| c.k[i][j] * self.plate.axis_motion(j, self.st.t).1)
+                .sum(),
+        )
+    }
+
+    fn output_input_derivative(&mut self, output: usize, input: usize) -> Option<f64> {
+        let i = Self::output_index(self.outputs[output])?;
+        let (axis, rate) = self.inputs[input].axis();
+        let k = self.condensed()?.k[i][axis];
+        Some(if rate {
+            k * self.plate.axis_lever(axis, self.st.t)
+        } else {
+            k
+        })
+    }
+
+    fn hold_prescribed_motion(&mut self, hold: bool) {
+        self.hold = hold;
+    }
+
+    fn input_restarts_accelerations(&self, _input: usize) -> bool {
+        false
+    }
+
+    fn accept(&mut self, state: &mut DynState) {
+        let dt = (state.t - self.st.t).max(0.0);
+        self.fill_work(state.t, 1.0, &state.q, &state.v, &state.acc);
+        let vb = self.bag_volume(&self.st.qw, &self.work.pose[0]);
+        let committed = if self.initialized {
+            self.gas.commit(dt, vb).map(|_| ())
+        } else {
+            self.gas.set_static(vb)
+        };
+        if let Err(e) = committed {
+            debug_assert!(false, "gas commit failed: {e}");
+        }
+        let old_force = self.force;
+        let old_pose = self.pose;
+        let pose = self.work.pose;
+        let ends = &self.ends.bead;
+        let (c, r, ts) = Self::plate_frame(&pose[0]);
+        let omega = ts * Vector3::new(pose[1][3], pose[1][4], 0.0);
+        let alpha = ts * Vector3::new(pose[2][3], pose[2][4], 0.0);
+        self.st.accept(state, |mut q, mut v, mut a| {
+            for &(k, rho) in ends {
+                let arm = r * rho;
+                let i = k * NODE_DOFS;
+                if let Some(q) = q.as_deref_mut() {
+                    let x = c + arm;
+                    q[i..i + 3].copy_from_slice(x.as_slice());
+                }
+                if let Some(v) = v.as_deref_mut() {
+                    let w = Vector3::new(pose[1][0], pose[1][1], pose[1][2]) + omega.cross(&arm);
+                    v[i..i + 3].copy_from_slice(w.as_slice());
+                }
+                if let Some(a) = a.as_deref_mut() {
+                    let w = Vector3::new(pose[2][0], pose[2][1], pose[2][2])
+                        + alpha.cross(&arm)
+                        + omega.cross(&omega.cross(&arm));
+                    a[i..i + 3].copy_from_slice(w.as_slice());
+                }
+            }
+        });
+        self.pose = pose[0];
+        let book = self.main.contact.commit(&self.st.q, &self.st.v, false);
+        self.contact_loss += 0.5 * (self.last_damping_power + book.dissipation) * dt;
+        self.last_damping_power = book.dissipation;
+        if self.commit_reaction().is_err() {
+            self.force = [f64::NAN; PLATE_AXES];
+        }
+        if self.initialized {
+            for i in 0..PLATE_AXES {
+                self.plate_work -=
+                    0.5 * (old_force[i] + self.force[i]) * (self.pose[i] - old_pose[i]);
+            }
+        }
+        self.initialized = true;
+        self.commits += 1;
+    }
+
+    fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
+        self.st.free_state(q, v);
+    }
+
+    fn constant_mass(&self) -> bool {
+        true
+    }
+
+    fn save(&self, w: &mut StateWriter) -> Result<(), String> {
+        self.st.save(w);
+        self.plate.save(w);
+        w.bool(self.initialized);
+        for x in self.pose.iter().chain(&self.force) {
+            w.f64(*x);
+        }
+        for x in [
+            self.strain,
+            self.kinetic,
+            self.plate_work,
+            self.contact_loss,
+            self.last_damping_power,
+        ] {
+            w.f64(x);
+        }
+        self.main.contact.save(w);
+        self.gas.save(w);
+        Ok(())
+    }
+
+    fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
+        let e = |e: crate::snapshot::SnapshotError| e.to_string();
+        self.st.restore(r)?;
+        self.plate = PlateInput::restore(r).map_err(e)?;
+        self.initialized = r.bool().map_err(e)?;
+        for i in 0..PLATE_AXES {
+            self.pose[i] = r.f64().map_err(e)?;
+        }
+        for i in 0..PLATE_AXES {
+            self.force[i] = r.f64().map_err(e)?;
+        }
+        for x in [
+            &mut self.strain,
+            &mut self.kinetic,
+            &mut self.plate_work,
+            &mut self.contact_loss,
+            &mut self.last_damping_power,
+        ] {
+            *x = r.f64().map_err(e)?;
+        }
+        self.main.contact.restore(r)?;
+        self.gas.restore(r).map_err(e)?;
+        self.commits += 1;
+        Ok(())
+    }
+}
