@@ -72,7 +72,7 @@ fn design_state_agrees_with_the_membrane_level() {
 #[ignore]
 fn explore_mesh() {
     let t = text();
-    for (nc, nm) in [(8, 30), (16, 30), (32, 30), (16, 60)] {
+    for (nc, nm) in [(16, 40), (20, 40), (24, 40), (24, 30), (32, 40)] {
         let tt = with(
             &with(&t, "n_circumferential", &nc.to_string()),
             "n_meridional",
@@ -192,6 +192,45 @@ fn port_block_matches_finite_differences_of_the_equilibrium() {
                 "dV/d{j}: {} vs {fdv} (V {v0})",
                 dv[j]
             );
+        }
+    }
+}
+
+#[test]
+#[ignore]
+fn explore_fmu_static() {
+    use common::{get, init, instance, set};
+    use flexfmu::variables::Value;
+    for z in [0.24 - 2e-5, 0.24, 0.24 + 2e-5] {
+        let (mut inst, _log) = instance("air_spring", false);
+        for (k, v) in [("top.x", 0.003), ("top.z", z), ("top.ry", 0.01)] {
+            set(&mut inst, k, Value::Real(v));
+        }
+        init(&mut inst);
+        eprintln!("z {z}: fx {} fz {} my {} x {}", get(&mut inst, "top.fx"), get(&mut inst, "top.fz"), get(&mut inst, "top.my"), get(&mut inst, "spring.height"));
+    }
+}
+
+#[test]
+#[ignore]
+fn explore_branches() {
+    let base = text();
+    for (label, t) in [
+        ("D0 m40", with(&base, "n_meridional", "40")),
+        ("D0 24x40", with(&with(&base, "n_meridional", "40"), "n_circumferential", "24")),
+    ] {
+        for z in [0.24 - 2e-5, 0.24, 0.24 + 2e-5] {
+            let mut m = build_shell(&t);
+            let f0 = m.move_plate([0.003, 0.0, 0.25, 0.0, 0.0]).unwrap();
+            let f1 = match m.move_plate([0.003, 0.0, z, 0.0, 0.0]) {
+                Ok(f) => f,
+                Err(e) => { eprintln!("{label} z {z}: {e}"); continue; }
+            };
+            let f = match m.move_plate([0.003, 0.0, z, 0.0, 0.01]) {
+                Ok(f) => f,
+                Err(e) => { eprintln!("{label} z {z} tilt: {e}"); continue; }
+            };
+            eprintln!("{label} z {z}: x-shift fx {:.3} | then z fx {:.3} | then tilt fx {:.3} fz {:.3} my {:.3}", f0[0], f1[0], f[0], f[2], f[4]);
         }
     }
 }
