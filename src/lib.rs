@@ -18,6 +18,7 @@
 pub mod assembly;
 pub mod cli;
 pub mod contact;
+pub mod docs;
 pub mod elements;
 #[allow(unsafe_code)]
 pub mod fmi2;

@@ -4,7 +4,9 @@
 use clap::{Parser, Subcommand};
 use flexfmu::cli::check_path;
 use flexfmu::model_description::model_description;
-use flexfmu::packaging::{build_fmu, find_library};
+use flexfmu::packaging::{
+    PlatformLibrary, add_platforms, build_fmu, find_library, parse_library_arg, platform,
+};
 use flexfmu::scene::Scene;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -29,9 +31,23 @@ enum Cmd {
         /// Output .fmu file (default: <model_name>.fmu).
         #[arg(short, long)]
         output: Option<PathBuf>,
-        /// Shared library to package (default: libflexfmu next to this executable).
+        /// Shared library to package: PLATFORM=PATH with an FMI 2.0 binary folder (linux64,
+        /// win64, darwin64, aarch64-darwin, aarch64-linux, ...), or a bare PATH for this
+        /// machine; repeat for more platforms (default: libflexfmu next to this executable).
         #[arg(long)]
-        library: Option<PathBuf>,
+        library: Vec<String>,
+    },
+    /// Copy an FMU with more platforms: libraries built elsewhere are added as
+    /// binaries/<PLATFORM>/ (one flexfmu library serves every scene).
+    AddPlatforms {
+        /// Existing FMU.
+        fmu: PathBuf,
+        /// PLATFORM=PATH, repeatable.
+        #[arg(long, required = true)]
+        library: Vec<String>,
+        /// Output .fmu file (default: overwrite the input).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
     },
     /// Print (or write) the modelDescription.xml of scene files.
     Xml {
@@ -78,9 +94,40 @@ fn run(cli: Cli) -> Result<(), String> {
         } => {
             let sc = Scene::from_path(&scene).map_err(|e| e.0)?;
             let out = output.unwrap_or_else(|| PathBuf::from(format!("{}.fmu", sc.model_name())));
-            let lib = find_library(library.as_deref())?;
-            build_fmu(&sc, &lib, &out)?;
-            println!("wrote {}", out.display());
+            let libs = if library.is_empty() {
+                vec![PlatformLibrary {
+                    platform: platform()?.0.to_string(),
+                    path: find_library(None)?,
+                }]
+            } else {
+                library
+                    .iter()
+                    .map(|a| parse_library_arg(a))
+                    .collect::<Result<Vec<_>, _>>()?
+            };
+            for path in build_fmu(&sc, &libs, &out)? {
+                println!("wrote {}", path.display());
+            }
+        }
+        Cmd::AddPlatforms {
+            fmu,
+            library,
+            output,
+        } => {
+            let libs = library
+                .iter()
+                .map(|a| parse_library_arg(a))
+                .collect::<Result<Vec<_>, _>>()?;
+            let out = output.unwrap_or_else(|| fmu.clone());
+            // read fully before writing: the output may be the input
+            let tmp = out.with_extension("fmu.tmp");
+            let platforms = add_platforms(&fmu, &libs, &tmp)?;
+            std::fs::rename(&tmp, &out).map_err(|e| format!("{}: {e}", out.display()))?;
+            println!(
+                "wrote {} (binaries: {})",
+                out.display(),
+                platforms.join(", ")
+            );
         }
         Cmd::Xml { scenes, out_dir } => {
             for path in scenes {

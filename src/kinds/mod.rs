@@ -7,7 +7,8 @@
 //! Recipe for a new kind: `DEVELOPERS.md`, section "Adding a body kind".
 
 /// Declares a kind's registry entry `$kind` (implementing [`BodyKind`]) and implements
-/// [`KindScene`] for its tables `$tables`, from the kind module's `scene::{check, params, io}`
+/// [`KindScene`] for its tables `$tables` (with `validation`: the kind's validation figures
+/// and limits, usually `include_str!("validation.txt")`), from the kind module's `scene::{check, params, io}`
 /// and `$model::build(&tables, &params)` (or, for a kind with several model types, an
 /// expression `build: |tables, params| ...` giving the boxed model).
 macro_rules! body_kind {
@@ -18,6 +19,7 @@ macro_rules! body_kind {
             model: $model:ty,
             name: $name:literal,
             summary: $summary:literal,
+            validation: $validation:expr,
             legacy: |$t:ident| $legacy:expr $(,)?
         }
     ) => {
@@ -28,6 +30,7 @@ macro_rules! body_kind {
                 build: |s, p| Ok(Box::new(<$model>::build(s, p)?)),
                 name: $name,
                 summary: $summary,
+                validation: $validation,
                 legacy: |$t| $legacy,
             }
         }
@@ -39,6 +42,7 @@ macro_rules! body_kind {
             build: |$s:ident, $p:ident| $build:expr,
             name: $name:literal,
             summary: $summary:literal,
+            validation: $validation:expr,
             legacy: |$t:ident| $legacy:expr $(,)?
         }
     ) => {
@@ -52,6 +56,10 @@ macro_rules! body_kind {
 
             fn summary(&self) -> &'static str {
                 $summary
+            }
+
+            fn validation(&self) -> &'static str {
+                $validation
             }
 
             fn claims_legacy(&self, $t: &toml::Table) -> bool {
@@ -146,6 +154,11 @@ pub trait BodyKind: Sync {
 
     /// One line on what the kind models.
     fn summary(&self) -> &'static str;
+
+    /// What the kind is validated against, with the measured figures, and where it stops
+    /// being valid: plain text, paragraphs separated by blank lines, list items starting with
+    /// `- ` (the kind's `validation.txt`, written into every FMU's documentation page).
+    fn validation(&self) -> &'static str;
 
     /// For scene files without a `kind` key (written before the key existed): whether the
     /// tables are this kind's by the old rule (element type, belt tables). At most one kind

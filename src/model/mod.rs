@@ -9,7 +9,9 @@ pub mod modal;
 pub mod nodes3d;
 pub mod ports;
 pub mod rates;
+pub mod sketch;
 mod system;
 
 pub use factory::build_model;
+pub use sketch::Sketch;
 pub use system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};

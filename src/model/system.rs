@@ -163,4 +163,12 @@ pub trait Model: MechanicalSystem + Send + std::any::Any {
     fn input_restarts_accelerations(&self, _input: usize) -> bool {
         true
     }
+
+    /// A line drawing of the committed state (node positions, pulleys, plates) for the FMU's
+    /// documentation and icon. Every shipped kind draws itself; the default (nothing drawn)
+    /// only serves models under construction, and `tests/fmu_documentation.rs` fails for a
+    /// shipped scene whose model draws nothing.
+    fn sketch(&self) -> super::Sketch {
+        super::Sketch::default()
+    }
 }

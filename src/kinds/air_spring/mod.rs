@@ -41,6 +41,7 @@ body_kind! {
         },
         name: "air_spring",
         summary: "air spring: cord-rubber bellows enclosing gas, rolling on a piston",
+        validation: include_str!("validation.txt"),
         legacy: |_t| false,
     }
 }

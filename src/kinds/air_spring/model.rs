@@ -1084,6 +1084,28 @@ impl MechanicalSystem for AirSpring {
 }
 
 impl Model for AirSpring {
+    /// The meridian on both sides of the axis (drawn in the x–z plane), the top plate and
+    /// the piston's top between the clamps.
+    fn sketch(&self) -> crate::model::Sketch {
+        let mut s = crate::model::Sketch::new(format!(
+            "{} axisymmetric cord-rubber membrane elements on the meridian, {} nodes (r, z)",
+            self.n_el,
+            self.n_el + 1
+        ));
+        let m = self.meridian();
+        for side in [1.0, -1.0] {
+            s.line(m.iter().map(|p| Vector3::new(side * p[0], 0.0, p[1])));
+        }
+        let w = 1.15 * self.bead_radius;
+        s.line([
+            Vector3::new(-w, 0.0, self.height),
+            Vector3::new(w, 0.0, self.height),
+        ]);
+        let [rc, zc] = self.clamp;
+        s.line([Vector3::new(-rc, 0.0, zc), Vector3::new(rc, 0.0, zc)]);
+        s
+    }
+
     /// Before the first accepted state, a new `top.z` moves the charged spring there
     /// quasi-statically with the gas at rest (the static solve of the initialization then
     /// starts in equilibrium).

@@ -1290,6 +1290,49 @@ impl MechanicalSystem for AirSpringShell {
 }
 
 impl Model for AirSpringShell {
+    /// Rings of nodes (ordered by angle) and meridian lines through the committed node
+    /// positions, at most 16 of each (evenly picked, first and last included) so that the
+    /// drawing stays legible.
+    fn sketch(&self) -> crate::model::Sketch {
+        let (n_circ, n_mer) = self.mesh();
+        let nodes = self.nodes();
+        let mut s = crate::model::Sketch::new(format!(
+            "{n_circ} × {n_mer} cord-rubber membrane quadrilaterals on the sleeve, {} nodes",
+            nodes.len()
+        ));
+        let pick = |n: usize| -> Vec<usize> {
+            let m = n.min(16);
+            (0..m).map(|k| k * (n - 1) / (m - 1).max(1)).collect()
+        };
+        let rings: Vec<&[Vector3<f64>]> = nodes.chunks(n_circ).collect();
+        for ring in pick(rings.len()).into_iter().map(|i| rings[i]) {
+            let c = ring.iter().sum::<Vector3<f64>>() / ring.len() as f64;
+            let mut pts = ring.to_vec();
+            pts.sort_by(|a, b| {
+                let angle = |p: &Vector3<f64>| (p.y - c.y).atan2(p.x - c.x);
+                angle(a).total_cmp(&angle(b))
+            });
+            pts.push(pts[0]);
+            s.line(pts);
+        }
+        // meridians at evenly spread angles of the first ring
+        let first = rings[0];
+        let c0 = first.iter().sum::<Vector3<f64>>() / first.len() as f64;
+        let mut by_angle: Vec<usize> = (0..n_circ).collect();
+        by_angle.sort_by(|&a, &b| {
+            let angle = |p: &Vector3<f64>| (p.y - c0.y).atan2(p.x - c0.x);
+            angle(&first[a]).total_cmp(&angle(&first[b]))
+        });
+        for k in pick(n_circ)
+            .into_iter()
+            .map(|i| by_angle[i])
+            .take(n_circ.min(16))
+        {
+            s.line(nodes.iter().skip(k).step_by(n_circ).copied());
+        }
+        s
+    }
+
     /// Before the first accepted state, a new plate input moves the charged spring there
     /// quasi-statically with the gas at rest.
     fn set_input(&mut self, input: usize, value: f64) {

@@ -392,6 +392,22 @@ impl MechanicalSystem for AirSpringTable {
 }
 
 impl Model for AirSpringTable {
+    /// No wall: the cylinder of the effective radius `√(A_e/π)` at the current height, from
+    /// the piston base to the top plate.
+    fn sketch(&self) -> crate::model::Sketch {
+        let mut s = crate::model::Sketch::new(
+            "no mesh: effective-area, volume and compliance tables over the height",
+        );
+        let h = self.height;
+        let r = (self.area.eval(h).0 / std::f64::consts::PI).max(0.0).sqrt();
+        let p = |x: f64, z: f64| nalgebra::Vector3::new(x, 0.0, z);
+        s.line([p(r, 0.0), p(r, h)]);
+        s.line([p(-r, 0.0), p(-r, h)]);
+        s.line([p(-1.15 * r, h), p(1.15 * r, h)]);
+        s.line([p(-1.15 * r, 0.0), p(1.15 * r, 0.0)]);
+        s
+    }
+
     fn set_input(&mut self, input: usize, value: f64) {
         self.plate.set(self.inputs[input], value, self.t);
     }

@@ -20,6 +20,7 @@ body_kind! {
         model: Beam2d,
         name: "beam_2d",
         summary: "straight planar beam of seed-000 shear-deformable ANCF elements",
+        validation: include_str!("validation.txt"),
         legacy: |t| legacy_element_type(t) == Some("ancf_shear_2d") && !legacy_has_belt(t),
     }
 }

@@ -384,6 +384,18 @@ impl Beam2d {
 }
 
 impl Model for Beam2d {
+    /// The centre line through the node positions.
+    fn sketch(&self) -> crate::model::Sketch {
+        let n = self.n_elements();
+        let mut s = crate::model::Sketch::new(format!(
+            "{n} seed-000 shear-deformable ANCF elements, {} nodes, {} coordinates",
+            n + 1,
+            self.q.len()
+        ));
+        s.line_xy((0..=n).map(|k| [self.q[k * NODE_COORDS], self.q[k * NODE_COORDS + 1]]));
+        s
+    }
+
     fn set_input(&mut self, input: usize, value: f64) {
         let t = self.t;
         self.input_signal(input).set(value, t);

@@ -21,6 +21,7 @@ body_kind! {
         model: Beam3d,
         name: "beam_3d",
         summary: "3D beam of seed-003 co-rotational elements along straight and circular pieces",
+        validation: include_str!("validation.txt"),
         legacy: |t| legacy_element_type(t) == Some("corotational_3d") && !legacy_has_belt(t),
     }
 }

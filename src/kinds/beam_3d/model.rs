@@ -437,6 +437,17 @@ impl Beam3d {
 }
 
 impl Model for Beam3d {
+    /// The centre line through the node positions.
+    fn sketch(&self) -> crate::model::Sketch {
+        let mut s = crate::model::Sketch::new(format!(
+            "{} seed-003 co-rotational beam elements, {} nodes with position and orientation",
+            self.n_elements(),
+            self.n_nodes()
+        ));
+        s.line((0..self.n_nodes()).map(|k| self.node_position(k)));
+        s
+    }
+
     fn set_input(&mut self, input: usize, value: f64) {
         let t = self.st.t;
         self.input_signal(input).set(value, t);

@@ -22,6 +22,7 @@ body_kind! {
         model: BeltDrive,
         name: "belt_drive",
         summary: "closed planar belt over driven and free pulleys with friction contact",
+        validation: include_str!("validation.txt"),
         legacy: |t| legacy_has_belt(t),
     }
 }

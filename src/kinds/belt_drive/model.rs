@@ -825,6 +825,33 @@ impl BeltDrive {
 }
 
 impl Model for BeltDrive {
+    /// The belt's centre line (four points per element) and each pulley's pitch circle with
+    /// a radius marking its angle.
+    fn sketch(&self) -> crate::model::Sketch {
+        let mut s = crate::model::Sketch::new(format!(
+            "{} {} belt elements, {} pulleys",
+            self.n_el,
+            match self.spec.element {
+                BeltElementKind::Cable(_) => "gradient-deficient ANCF cable",
+                BeltElementKind::Shear => "seed-000 shear-deformable ANCF",
+            },
+            self.spec.pulleys.len()
+        ));
+        let n = 4 * self.n_el;
+        let last = if self.closed { n } else { n - 1 };
+        s.line_xy((0..=last).map(|k| {
+            let p = self.belt_point(k as f64 / n as f64);
+            [p.x, p.y]
+        }));
+        for (k, p) in self.spec.pulleys.iter().enumerate() {
+            let c = Vector3::new(p.center.x, p.center.y, 0.0);
+            s.circle(c, p.radius, Vector3::z());
+            let phi = self.q[self.pulley_dof[k]];
+            s.line([c, c + p.radius * Vector3::new(phi.cos(), phi.sin(), 0.0)]);
+        }
+        s
+    }
+
     /// Before the first communication step the angle of a driven pulley is where the master's
     /// rigid body starts: the pulley is turned there under the belt without slip (a pulley's
     /// absolute angle means nothing to the belt; only its rotation during the run does).

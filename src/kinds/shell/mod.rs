@@ -22,6 +22,7 @@ body_kind! {
         model: Shell,
         name: "shell",
         summary: "shell of seed-004 trapezoidal elements: plates and surfaces of revolution",
+        validation: include_str!("validation.txt"),
         legacy: |_t| false,
     }
 }

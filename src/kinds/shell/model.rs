@@ -813,6 +813,20 @@ impl Shell {
 }
 
 impl Model for Shell {
+    /// The outline of every element through its four node positions.
+    fn sketch(&self) -> crate::model::Sketch {
+        let mut s = crate::model::Sketch::new(format!(
+            "{} seed-004 trapezoidal shell elements, {} nodes with position and orientation",
+            self.n_elements(),
+            self.n_nodes()
+        ));
+        for e in 0..self.positions.len() {
+            let c = self.element_positions(e, &self.st.q);
+            s.line([c[0], c[1], c[2], c[3], c[0]]);
+        }
+        s
+    }
+
     fn set_input(&mut self, input: usize, value: f64) {
         let t = self.st.t;
         self.input_signal(input).set(value, t);
