@@ -74,7 +74,7 @@ fn design_state_agrees_with_the_membrane_level() {
 #[test]
 fn constant_pressure_characteristic_agrees_with_the_membrane_level() {
     let t = text();
-    for h in [0.235, 0.265, 0.28, 0.30] {
+    for h in [0.20, 0.22, 0.235, 0.265, 0.28, 0.30] {
         // from the design state (see the module notes on longer paths)
         let mut shell = build_shell(&t);
         let mut membrane = build_membrane(&with(&t, "n_meridional", "60"));
@@ -157,6 +157,40 @@ fn port_block_matches_finite_differences_of_the_equilibrium() {
                 (fdv - dv[j]).abs() <= 2e-3 * dv.iter().map(|x| x.abs()).fold(1e-12, f64::max),
                 "dV/d{j}: {} vs {fdv} (V {v0})",
                 dv[j]
+            );
+        }
+    }
+}
+
+/// The closed-gas characteristic through the FMI instances (the start value of `top.z` moves
+/// the charged spring there before the static initialization): the shell level's force, volume
+/// and pressure agree with the membrane level's within 1 % over the stroke 0.18 … 0.30 m; at
+/// the full extension 0.32 m the force is 1.3 % low (measured; the facets' share of the wall
+/// force grows as the pressure falls), checked within 2 %.
+#[test]
+fn closed_gas_characteristic_agrees_with_the_membrane_level() {
+    use common::{get, init, instance, set};
+    use flexfmu::variables::Value;
+    for h in [0.18, 0.21, 0.27, 0.30, 0.32] {
+        let mut out = vec![];
+        for name in ["air_spring", "air_spring_axisym"] {
+            let (mut inst, _log) = instance(name, false);
+            set(&mut inst, "top.z", Value::Real(h));
+            init(&mut inst);
+            out.push([
+                get(&mut inst, "top.fz"),
+                get(&mut inst, "gas.volume"),
+                get(&mut inst, "gas.pressure_gauge"),
+            ]);
+        }
+        eprintln!("h {h}: shell {:?} membrane {:?}", out[0], out[1]);
+        let tol = if h > 0.31 { 0.02 } else { 0.01 };
+        for k in 0..3 {
+            assert!(
+                (out[0][k] / out[1][k] - 1.0).abs() < tol,
+                "h {h}, quantity {k}: {} vs {}",
+                out[0][k],
+                out[1][k]
             );
         }
     }

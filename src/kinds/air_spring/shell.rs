@@ -818,7 +818,7 @@ impl AirSpringShell {
             .sqrt()
             + (to[3].hypot(to[4]) - from[3].hypot(from[4])).abs() * length;
         let max_step = if dist > 0.0 {
-            (ell / dist).min(0.25)
+            (0.25 * ell / dist).min(0.25)
         } else {
             1.0
         };
@@ -837,6 +837,9 @@ impl AirSpringShell {
         let r_scale = p_scale * length * length / (self.n_mer * self.n_circ) as f64;
         let mut level = 0.0f64;
         let mut last_err = String::new();
+        // a budget of Newton iterations: a level converges in 6 to 60 where the path exists
+        // (measured on the reference spring), so a level that needs more has lost it
+        let mut budget = 1000usize;
         let frames_saved = self.st.frames.clone();
         let q_saved = self.st.q.clone();
         while level < 1.0 {
@@ -850,7 +853,12 @@ impl AirSpringShell {
             let mut c = 1e-2 * c_start;
             let mut r_old = f64::INFINITY;
             let mut ok = false;
-            for _ in 0..200 {
+            for _ in 0..80 {
+                if budget == 0 {
+                    last_err = "1000 Newton iterations spent".into();
+                    break;
+                }
+                budget -= 1;
                 self.st.expand(&x, &zeros, &zeros);
                 self.prescribe_pose(&pose, true);
                 let coeffs = JacobianCoeffs {
@@ -916,7 +924,7 @@ impl AirSpringShell {
                 x = saved;
                 self.st.frames = frames_level;
                 step *= 0.5;
-                if step < 1e-3 {
+                if step < 1e-3 || budget == 0 {
                     self.st.frames = frames_saved;
                     self.st.q = q_saved;
                     return Err(format!(
