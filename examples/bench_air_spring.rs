@@ -16,8 +16,10 @@
 //!    design force.
 //! 2. Where the time goes at 60 elements: one residual with and without the iteration matrix,
 //!    one factorization and solve, one accepted step's bookkeeping.
-//! 3. Level 3 (effective-area table) and level 1 (shell): rows to come when their scenes exist
-//!    (`scenes/air_spring_table.toml`, `scenes/air_spring.toml`); they are skipped while absent.
+//! 3. Level 3 (effective-area table, `scenes/air_spring_table.toml`) and level 1 (shell,
+//!    `scenes/air_spring.toml`) over meshes (`mesh.n_circumferential` × `mesh.n_meridional`),
+//!    the shell over the first 0.25 s of the sine only (one run per mesh: it is slow), with the
+//!    design force error against the shooting solution.
 //! 4. The same sine through the FMI instance (`flexfmu::instance::Instance`: what an importer
 //!    pays per communication step, without the C ABI shims): fmi2SetReal of `top.z` and
 //!    `top.vz`, fmi2DoStep, and fmi2GetReal of `top.fz` alone or of every output. The
@@ -98,6 +100,11 @@ struct Run {
 }
 
 fn sine_run(sc: &Scene, overrides: &[(&str, Value)]) -> Run {
+    sine_run_for(sc, overrides, DURATION)
+}
+
+/// [`sine_run`] over the first `duration` [s] of the sine.
+fn sine_run_for(sc: &Scene, overrides: &[(&str, Value)], duration: f64) -> Run {
     let p = params(sc, overrides);
     let t0 = Instant::now();
     let model = build_model(sc, &p).unwrap();
@@ -107,7 +114,7 @@ fn sine_run(sc: &Scene, overrides: &[(&str, Value)]) -> Run {
     let (iz, ivz, ofz) = (index(sc, "top.z"), index(sc, "top.vz"), index(sc, "top.fz"));
     let design_force = sim.output(ofz);
     let before = sim.stats();
-    let n = (DURATION / STEP).round() as usize;
+    let n = (duration / STEP).round() as usize;
     let mut force = Vec::with_capacity(n);
     let w = 2.0 * PI * FREQUENCY;
     let mut failed = None;
@@ -284,6 +291,51 @@ fn level3(rows: &mut Vec<Row>) {
     });
 }
 
+/// Level 1: the shell over meshes, the first quarter second of the same sine.
+fn level1(rows: &mut Vec<Row>) {
+    let sc = scene("air_spring");
+    let f_ref = reference_force();
+    let duration = 0.25;
+    println!(
+        "## Level 1 (shell, scenes/air_spring.toml): the same sine for its first {duration} s, one run per mesh\n"
+    );
+    println!(
+        "| elements (around × along) | setup [s] | wall per simulated s [s] | real-time factor | Newton it./step | factorizations/step | µs per element per Newton it. | design F error (shooting) |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (nc, nm) in [(12, 30), (16, 40), (24, 40), (32, 60)] {
+        let ov = vec![
+            ("mesh.n_circumferential", Value::Integer(nc)),
+            ("mesh.n_meridional", Value::Integer(nm)),
+        ];
+        let run = sine_run_for(&sc, &ov, duration);
+        if let Some(msg) = run.failed.as_ref() {
+            println!("| {nc} × {nm} | {:.3} | {msg} ||||||", run.setup);
+            continue;
+        }
+        let steps = run.steps as f64;
+        let per_s = run.wall / duration;
+        let design_error = (run.design_force / f_ref - 1.0).abs();
+        let n_el = (nc * nm) as f64;
+        println!(
+            "| {nc} × {nm} | {:.2} | {per_s:.3} | {:.4} | {:.2} | {:.2} | {:.3} | {design_error:.2e} |",
+            run.setup,
+            1.0 / per_s,
+            run.iterations as f64 / steps,
+            run.factorizations as f64 / steps,
+            1e6 * run.wall / (run.iterations as f64 * n_el),
+        );
+        rows.push(Row {
+            level: 1,
+            label: format!("{nc}x{nm} el."),
+            wall_per_s: per_s,
+            design_error,
+            run_error: f64::NAN,
+        });
+    }
+    println!();
+}
+
 /// Where the time of a step goes at 60 elements.
 fn breakdown() {
     let sc = scene("air_spring_axisym");
@@ -404,6 +456,7 @@ fn fmi_rows() {
     {
         cases.push(("level 3 (table)", "air_spring_table", vec![]));
     }
+    cases.push(("level 1, 16 × 40 elements", "air_spring", vec![]));
     for (label, name, ov) in &cases {
         for all in [false, true] {
             let t = fmi_step_time(name, ov, all);
@@ -451,11 +504,7 @@ fn main() {
     if root.join("air_spring_table.toml").exists() {
         level3(&mut rows);
     }
+    level1(&mut rows);
     fmi_rows();
-    if !root.join("air_spring.toml").exists() {
-        println!(
-            "level 1: scenes/air_spring.toml (the seed-004 shell) does not exist yet: no row\n"
-        );
-    }
     write_csv(&out, &rows);
 }

@@ -174,14 +174,10 @@ impl CordRubberQuad {
             }
             // ------------------------------------------------------------------- tangent
             if let Some(k) = k.as_deref_mut() {
-                for a in 0..3 {
-                    for b in 0..3 {
-                        let h = e.hess[(a, b)] * p.weight;
-                        if h != 0.0 {
-                            k.ger(h, &dc[a], &dc[b], 1.0);
-                        }
-                    }
-                }
+                // B H Bᵀ with B = [∂C₁₁/∂q ∂C₂₂/∂q ∂C₁₂/∂q] (12 × 3)
+                let b = SMatrix::<f64, QUAD_DOFS, 3>::from_columns(&dc);
+                let bh = b * (e.hess * p.weight);
+                k.gemm(1.0, &bh, &b.transpose(), 1.0);
                 // Σ ∂W/∂C_p ∂²C_p/∂x_i∂x_j, a multiple of the identity per node pair
                 for i in 0..4 {
                     for j in 0..4 {

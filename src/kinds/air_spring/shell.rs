@@ -185,6 +185,8 @@ struct Condensed {
 /// The condensation's own assembly (every coordinate free), solvers and cache.
 #[derive(Debug)]
 struct Condensation {
+    /// A copy of the main system's sets (the condensation assembles while the model is shared).
+    main: Mech,
     full: Mech,
     main_solver: Option<LinearSolver>,
     main_vals: Vec<f64>,
@@ -418,6 +420,7 @@ impl AirSpringShell {
         };
         let main = Mech::new(&parts, &constrained);
         let full = Mech::new(&parts, &vec![false; n_full]);
+        let main_copy = main.clone();
         let asm = main.asm.clone();
         let scales = asm
             .dofs
@@ -447,6 +450,7 @@ impl AirSpringShell {
             st: FramedState::new(asm, frames, q0),
             main,
             cond: RefCell::new(Condensation {
+                main: main_copy,
                 full,
                 main_solver: None,
                 main_vals: vec![],
@@ -1018,6 +1022,7 @@ impl AirSpringShell {
     /// `y_j = −K_ff⁻¹ ∂r_f/∂u_j` (with the rank-one gas term), and the change of the plate load.
     fn compute_condensed(&self, cond: &mut Condensation) -> Option<Condensed> {
         let Condensation {
+            main,
             full,
             main_solver,
             main_vals,
@@ -1040,7 +1045,6 @@ impl AirSpringShell {
             stiffness: 1.0,
         };
         // the main system (free coordinates, rank-one gas term)
-        let mut main = self.main.clone();
         if main_solver.is_none() {
             *main_solver =
                 Some(LinearSolver::new(&main.asm.pattern, solver_kind(&main.asm.pattern)).ok()?);
@@ -1049,7 +1053,7 @@ impl AirSpringShell {
         }
         let solver = main_solver.as_mut()?;
         Self::assemble(
-            &mut main,
+            main,
             &mut st,
             &mut g,
             p_g,
