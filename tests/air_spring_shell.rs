@@ -185,13 +185,8 @@ fn closed_gas_characteristic_agrees_with_the_membrane_level() {
         }
         eprintln!("h {h}: shell {:?} membrane {:?}", out[0], out[1]);
         let tol = if h > 0.31 { 0.02 } else { 0.01 };
-        for k in 0..3 {
-            assert!(
-                (out[0][k] / out[1][k] - 1.0).abs() < tol,
-                "h {h}, quantity {k}: {} vs {}",
-                out[0][k],
-                out[1][k]
-            );
+        for (k, (a, b)) in out[0].iter().zip(&out[1]).enumerate() {
+            assert!((a / b - 1.0).abs() < tol, "h {h}, quantity {k}: {a} vs {b}");
         }
     }
 }
