@@ -22,6 +22,9 @@ pub enum ModelError {
     /// NaN or infinite values in the forces.
     #[error("non-finite internal force (NaN or infinity): the configuration is invalid")]
     NonFinite,
+    /// A prescribed motion outside what the model can represent (the message says which).
+    #[error("{0}")]
+    Outside(String),
 }
 
 /// A discretised mechanical system `M(q) a + f_int(q, v) = λ f_ext(t, q, v)` on its free

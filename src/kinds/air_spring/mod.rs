@@ -6,16 +6,19 @@
 //! heat transfer, optionally with a reservoir behind an orifice and a pipe; its mass is fixed by
 //! the design state (`gas.pressure_design` at `spring.design_height`).
 //!
-//! Fidelity levels (`model.fidelity`, one per scene): 2 = axisymmetric membrane of 2-node
-//! conical elements ([`crate::elements::axisym_membrane`]) with the cord–rubber wall law
+//! Fidelity levels (`model.fidelity`, one per scene): 1 = the sleeve as a shell mesh of
+//! cord–rubber membrane quadrilaterals ([`crate::elements::cord_rubber_quad`]) with the seed-004
+//! element for bending where the wall has a bending stiffness, a five-axis top plate, model
+//! [`shell`]; 2 = axisymmetric membrane of 2-node conical elements
+//! ([`crate::elements::axisym_membrane`]) with the cord–rubber wall law
 //! ([`crate::elements::cord_rubber`]) and frictionless contact with piston and top plate
 //! ([`crate::contact::revolution`]), model [`model`]; 3 = the effective-area table with the gas
-//! law on top, model [`table`]. Level 1 (the seed-004 shell) is declared by issue 11 and not
-//! built yet: the parameter admits only the levels that exist.
+//! law on top, model [`table`].
 //!
 //! Coupling: the master moves the top plate (`top.z`, `top.vz`, the height above the piston
-//! base) and reads the force `top.fz` (positive pushes the plate up) with its directional
-//! derivative (the interface stiffness).
+//! base; at level 1 also `top.x`, `top.y`, `top.rx`, `top.ry` and their rates) and reads the
+//! force `top.fz` (positive pushes the plate up; at level 1 also `top.fx`, `top.fy`, `top.mx`,
+//! `top.my`) with its directional derivatives (the interface stiffness).
 
 pub mod model;
 pub mod scene;

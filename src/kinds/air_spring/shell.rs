@@ -14,7 +14,7 @@
 //! stands for (bead ring, clamp ring, piston contour and sleeve alike). Hoop stretches are
 //! ratios of radii and keep their value, and the bag's cross-sections, volume and effective
 //! area are those of the surface of revolution at any `n_c`; the facets' own error is left
-//! (measured against the membrane level in `tests/air_spring.rs`).
+//! (measured against the membrane level in `tests/air_spring_shell.rs`).
 //!
 //! **Coordinates.** Per node `[x, y, z, θx, θy, θz]` as the shell kind (incremental rotations
 //! absorbed into stored node frames, [`FramedState`]); with `bellows.bending_stiffness = 0`
@@ -240,6 +240,9 @@ pub struct AirSpringShell {
     last_damping_power: f64,
     commits: u64,
     mass_per_area: f64,
+    /// The plate poses the sleeve can reach: `(piston top height [m], sleeve length [m], bead
+    /// radius [m])`.
+    envelope: (f64, f64, f64),
 }
 
 impl std::fmt::Debug for AirSpringShell {
@@ -485,6 +488,7 @@ impl AirSpringShell {
             last_damping_power: 0.0,
             commits: 0,
             mass_per_area: density * thickness,
+            envelope: (clamp[1], length, rb),
         };
         model.prescribe_pose(&model.pose.clone(), true);
         let pose = model.pose;
@@ -603,6 +607,28 @@ impl AirSpringShell {
         }
         let (c, r, _) = Self::plate_frame(pose);
         v + c.dot(&(r * self.ends.plate_area)) / 3.0 + self.ends.clamp_cap
+    }
+
+    /// Whether the sleeve can reach the plate pose `pose`: the plate above the piston top, its
+    /// centre less than the sleeve length from the clamp, shifted less than the bead radius and
+    /// tilted less than 0.5 rad. A motion that leaves this leaves the model (the step fails
+    /// with the reason instead of grinding through a torn sleeve).
+    fn admissible(&self, pose: &[f64; PLATE_AXES]) -> Result<(), ModelError> {
+        let (top, length, rb) = self.envelope;
+        let tilt = pose[3].hypot(pose[4]);
+        let shift = pose[0].hypot(pose[1]);
+        if !(pose[AXIS_Z] > top && pose[AXIS_Z] < top + length && shift < rb && tilt < 0.5) {
+            return Err(ModelError::Outside(format!(
+                "the top plate pose (x, y, z, rx, ry) = ({:.4}, {:.4}, {:.4} m, {:.4}, {:.4} rad) is outside what the sleeve can reach (z between the piston top {top} m and {} m, a shift below the bead radius {rb} m, a tilt below 0.5 rad)",
+                pose[0],
+                pose[1],
+                pose[2],
+                pose[3],
+                pose[4],
+                top + length
+            )));
+        }
+        Ok(())
     }
 
     /// Prescribed pose, rates and second rates at `t` (in a static solve at load factor `lambda`).
@@ -813,6 +839,7 @@ impl AirSpringShell {
         to: [f64; PLATE_AXES],
         mode: Pressure,
     ) -> Result<(), String> {
+        self.admissible(&to).map_err(|e| e.to_string())?;
         let n = self.st.asm.dofs.n_free();
         let length = self.scales.iter().fold(0.0f64, |a, &b| a.max(b));
         let ell = length / self.n_mer as f64;
@@ -1254,6 +1281,7 @@ impl MechanicalSystem for AirSpringShell {
             Pressure::Step((t - self.st.t).max(0.0))
         };
         self.fill_work(t, load_factor, q, v, a);
+        self.admissible(&self.work.pose[0])?;
         self.evaluate_filled(mode, r, jac)
     }
 
@@ -1274,6 +1302,7 @@ impl MechanicalSystem for AirSpringShell {
         self.st.expand_midpoint(q_a, q_b, v, a);
         self.work.pose = self.plate_motion(tm, 1.0);
         let pose = self.work.pose[0];
+        self.admissible(&pose)?;
         self.prescribe_pose(&pose, false);
         let jac = jac.map(|(c, vals)| {
             (
