@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{output, simulation};
+use common::{output, simulation, with};
 use flexfmu::kinds::air_spring::AirSpringScene;
 use flexfmu::kinds::air_spring::model::AirSpring;
 use flexfmu::scene::{ParamValues, Scene};
@@ -31,20 +31,6 @@ fn floats(t: &toml::Value, key: &str) -> Vec<f64> {
 
 fn axisym_text() -> String {
     std::fs::read_to_string(common::scene_path("air_spring_axisym")).unwrap()
-}
-
-/// The scene text with `key = old` replaced by `key = new` in the line starting with `key`.
-fn with(text: &str, key: &str, value: &str) -> String {
-    text.lines()
-        .map(|l| {
-            if l.trim_start().starts_with(&format!("{key} =")) {
-                format!("{key} = {value}")
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
 }
 
 fn build(text: &str) -> AirSpring {

@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::with;
+
 use flexfmu::kinds::air_spring::AirSpringScene;
 use flexfmu::kinds::air_spring::model::AirSpring;
 use flexfmu::kinds::air_spring::shell::AirSpringShell;
@@ -11,20 +13,6 @@ use flexfmu::scene::{ParamValues, Scene};
 
 fn text() -> String {
     std::fs::read_to_string(common::scene_path("air_spring")).unwrap()
-}
-
-/// The scene text with `key = old` replaced by `key = new` in the line starting with `key`.
-fn with(text: &str, key: &str, value: &str) -> String {
-    text.lines()
-        .map(|l| {
-            if l.trim_start().starts_with(&format!("{key} =")) {
-                format!("{key} = {value}")
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
 }
 
 fn build_shell(text: &str) -> AirSpringShell {

@@ -22,6 +22,20 @@ pub fn scene_path(name: &str) -> PathBuf {
 }
 
 /// Loads a shipped scene.
+/// The scene text `text` with the line starting with `key =` replaced by `key = value`.
+pub fn with(text: &str, key: &str, value: &str) -> String {
+    text.lines()
+        .map(|l| {
+            if l.trim_start().starts_with(&format!("{key} =")) {
+                format!("{key} = {value}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
 pub fn scene(name: &str) -> Scene {
     Scene::from_path(&scene_path(name)).unwrap()
 }

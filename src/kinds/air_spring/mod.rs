@@ -21,6 +21,7 @@
 //! `top.my`) with its directional derivatives (the interface stiffness).
 
 pub mod model;
+mod relax;
 pub mod scene;
 pub mod shell;
 pub mod table;

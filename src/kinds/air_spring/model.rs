@@ -26,6 +26,7 @@
 //! condensation of the tangent (with the gas's instantaneous `dp/dV`) onto the plate
 //! coordinates, solved on a second assembly where they are free.
 
+use super::relax::Relaxation;
 use super::scene::{Input, Output, io, names::*, piston_contour};
 use super::table::{gas_error, gas_output, gas_params};
 use super::{AirSpringScene, PlateInput};
@@ -460,12 +461,11 @@ impl AirSpring {
         while level < 1.0 {
             let target = (level + step).min(1.0);
             let saved = x.clone();
-            let mut c = c_level.max(1e-3 * c_start);
-            let mut r_old = f64::INFINITY;
+            let mut relax = Relaxation::new(c_level.max(1e-3 * c_start));
             let mut ok = false;
             for _ in 0..400 {
                 let coeffs = JacobianCoeffs {
-                    mass: c,
+                    mass: relax.c,
                     damping: 0.0,
                     stiffness: 1.0,
                 };
@@ -489,47 +489,26 @@ impl AirSpring {
                     last_err = e.to_string();
                     break;
                 }
-                let r_norm = ws.r.iter().map(|v| v * v).sum::<f64>().sqrt();
-                if let Err(e) = ws.solver.factor(&ws.pattern, &ws.jac) {
-                    last_err = e.to_string();
-                    break;
-                }
-                for (d, r) in ws.dx.iter_mut().zip(&ws.r) {
-                    *d = -r;
-                }
-                ws.solver.solve_in_place(&mut ws.dx);
-                let inc = ws
-                    .dx
-                    .iter()
-                    .zip(&self.main.scales)
-                    .map(|(d, s)| (d / s).abs())
-                    .fold(0.0, f64::max);
-                if !inc.is_finite() {
-                    last_err = "non-finite increment".into();
-                    break;
-                }
                 // keep the increment a fraction of an element length
                 let cap = 0.25 / self.n_el as f64;
-                let scale = if inc > cap { cap / inc } else { 1.0 };
-                for (xi, d) in x.iter_mut().zip(&ws.dx) {
-                    *xi += scale * d;
-                }
-                if r_norm.is_finite() && r_old.is_finite() {
-                    c *= (r_norm / r_old).clamp(0.1, 4.0);
-                }
-                r_old = r_norm;
+                let it = match relax.iterate(&mut ws, &mut x, &self.main.scales, cap) {
+                    Ok(it) => it,
+                    Err(e) => {
+                        last_err = e;
+                        break;
+                    }
+                };
                 if std::env::var("AIRSPRING_DEBUG").is_ok() {
                     eprintln!(
-                        "level {target:.3} |r| {r_norm:.3e} inc {inc:.3e} scale {scale:.2e} c {c:.3e}"
+                        "level {target:.3} |r| {:.3e} inc {:.3e} scale {:.2e} c {:.3e}",
+                        it.r_norm, it.inc, it.scale, relax.c
                     );
                 }
-                if inc < 1e-11 && scale == 1.0 && r_norm < 1e-9 * r_scale {
+                if it.inc < 1e-11 && it.scale == 1.0 && it.r_norm < 1e-9 * r_scale {
                     ok = true;
                     break;
                 }
-                if c < 1e-8 {
-                    c = 0.0;
-                }
+                relax.settle();
             }
             if ok {
                 // a membrane without bending can fold: an element squeezed to a fraction of
@@ -547,7 +526,7 @@ impl AirSpring {
                 }
             }
             if ok {
-                c_level = c;
+                c_level = relax.c;
                 level = target;
                 step = (step * 1.5).min(max_step);
             } else {

@@ -39,6 +39,7 @@
 //! derivatives of `top.fx … top.my` with respect to the plate axes) is the static condensation
 //! of the tangent, with the gas: computed on request at the committed state.
 
+use super::relax::Relaxation;
 use super::scene::{Input, Output, io, names::*, piston_contour};
 use super::table::{gas_error, gas_output, gas_params};
 use super::{AXIS_Z, AirSpringScene, PLATE_AXES, PlateInput};
@@ -881,8 +882,7 @@ impl AirSpringShell {
             for i in 0..PLATE_AXES {
                 pose[i] = from[i] + target * (to[i] - from[i]);
             }
-            let mut c = 1e-2 * c_start;
-            let mut r_old = f64::INFINITY;
+            let mut relax = Relaxation::new(1e-2 * c_start);
             let mut ok = false;
             for _ in 0..80 {
                 if budget == 0 {
@@ -893,7 +893,7 @@ impl AirSpringShell {
                 self.st.expand(&x, &zeros, &zeros);
                 self.prescribe_pose(&pose, true);
                 let coeffs = JacobianCoeffs {
-                    mass: c,
+                    mass: relax.c,
                     damping: 0.0,
                     stiffness: 1.0,
                 };
@@ -901,52 +901,31 @@ impl AirSpringShell {
                     last_err = e.to_string();
                     break;
                 }
-                let r_norm = ws.r.iter().map(|v| v * v).sum::<f64>().sqrt();
-                if let Err(e) = ws.solver.factor(&ws.pattern, &ws.jac) {
-                    last_err = e.to_string();
-                    break;
-                }
-                for (d, r) in ws.dx.iter_mut().zip(&ws.r) {
-                    *d = -r;
-                }
-                ws.solver.solve_in_place(&mut ws.dx);
-                let inc = ws
-                    .dx
-                    .iter()
-                    .zip(&self.scales)
-                    .map(|(d, s)| (d / s).abs())
-                    .fold(0.0, f64::max);
-                if !inc.is_finite() {
-                    last_err = "non-finite increment".into();
-                    break;
-                }
                 let cap = 0.25 / self.n_mer as f64;
-                let sc = if inc > cap { cap / inc } else { 1.0 };
-                for (xi, d) in x.iter_mut().zip(&ws.dx) {
-                    *xi += sc * d;
-                }
+                let it = match relax.iterate(&mut ws, &mut x, &self.scales, cap) {
+                    Ok(it) => it,
+                    Err(e) => {
+                        last_err = e;
+                        break;
+                    }
+                };
                 // absorb the rotations: the increments stay small
                 let mut full = std::mem::take(&mut self.st.q);
                 self.st.asm.dofs.expand(&x, &mut full);
                 self.st.frames.absorb(&mut full);
                 self.st.asm.dofs.restrict(&full, &mut x);
                 self.st.q = full;
-                if r_norm.is_finite() && r_old.is_finite() {
-                    c *= (r_norm / r_old).clamp(0.1, 4.0);
-                }
-                r_old = r_norm;
                 if std::env::var("AIRSPRING_DEBUG").is_ok() {
                     eprintln!(
-                        "shell level {target:.3} |r| {r_norm:.3e} inc {inc:.3e} scale {sc:.2e} c {c:.3e}"
+                        "shell level {target:.3} |r| {:.3e} inc {:.3e} scale {:.2e} c {:.3e}",
+                        it.r_norm, it.inc, it.scale, relax.c
                     );
                 }
-                if inc < 1e-10 && sc == 1.0 && r_norm < 1e-8 * r_scale {
+                if it.inc < 1e-10 && it.scale == 1.0 && it.r_norm < 1e-8 * r_scale {
                     ok = true;
                     break;
                 }
-                if c < 1e-8 {
-                    c = 0.0;
-                }
+                relax.settle();
             }
             if ok {
                 level = target;
