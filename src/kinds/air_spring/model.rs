@@ -26,7 +26,7 @@
 //! condensation of the tangent (with the gas's instantaneous `dp/dV`) onto the plate
 //! coordinates, solved on a second assembly where they are free.
 
-use super::relax::Relaxation;
+use super::relax::{Pressure, Relaxation};
 use super::scene::{Input, Output, io, names::*, piston_contour};
 use super::table::{gas_error, gas_output, gas_params};
 use super::{AirSpringScene, PlateInput};
@@ -47,17 +47,6 @@ use crate::scene::params::ParamValues;
 use crate::snapshot::{StateReader, StateWriter};
 use nalgebra::{SVector, Vector3};
 use std::cell::{Cell, RefCell};
-
-/// How the gas pressure is taken in an evaluation.
-#[derive(Clone, Copy, Debug)]
-enum Pressure {
-    /// A fixed gauge pressure [Pa] (the design state).
-    Fixed(f64),
-    /// The gas at the end of a step of this length [s] from the committed state.
-    Step(f64),
-    /// The gas at rest (static solve).
-    Static,
-}
 
 /// Elements, contact and pattern over one split of the coordinates into free and prescribed.
 #[derive(Clone, Debug)]
@@ -626,22 +615,6 @@ impl AirSpring {
         w.a[2 * n_nodes + 1] = az;
     }
 
-    /// The gauge pressure [Pa] and `dp/dV` [Pa/m³] at the membrane volume `vm` [m³].
-    fn pressure(&self, mode: Pressure, vm: f64) -> Result<(f64, f64), ModelError> {
-        let bad = |_e| ModelError::NonFinite;
-        match mode {
-            Pressure::Fixed(p) => Ok((p, 0.0)),
-            Pressure::Step(dt) => {
-                let (p, dp_dv) = self.gas.pressure(dt, vm).map_err(bad)?;
-                Ok((p - self.ambient, dp_dv))
-            }
-            Pressure::Static => {
-                let (p, d) = self.gas.static_pressure(vm).map_err(bad)?;
-                Ok((p - self.ambient, d))
-            }
-        }
-    }
-
     /// Residual over the work state of `mech` (full `f`), with the iteration matrix if asked;
     /// returns the strain energy [J] and the membrane volume [m³].
     fn assemble_full(
@@ -720,7 +693,7 @@ impl AirSpring {
         if !(vm.is_finite() && vm > 0.0) {
             return Err(ModelError::NonFinite);
         }
-        let (p_g, dp_dv) = self.pressure(mode, vm)?;
+        let (p_g, dp_dv) = mode.gauge(&self.gas, self.ambient, vm)?;
         let check = jac.is_some();
         let mut jac = jac;
         self.last_strain = Self::assemble_full(
@@ -905,7 +878,8 @@ impl AirSpring {
         self.fill_work(self.t, 1.0, &qf, &vf, acc);
         self.hold = saved;
         self.scratch = [qf, vf, r];
-        let (p_g, _) = self.pressure(Pressure::Step(0.0), self.gas.membrane_volume())?;
+        let (p_g, _) =
+            Pressure::Step(0.0).gauge(&self.gas, self.ambient, self.gas.membrane_volume())?;
         let w = &self.work;
         let els = &self.main.elements;
         let mut fe = SVector::<f64, 4>::zeros();
@@ -1048,7 +1022,8 @@ impl MechanicalSystem for AirSpring {
         // the step commits the gas at the end volume: it must exist there too
         self.fill_work(t_b, 1.0, q_b, v, a);
         let vb = volume_gradient(self.n_el, &self.work.q, &mut self.work.grad);
-        self.pressure(Pressure::Step((t_b - self.t).max(0.0)), vb)
+        Pressure::Step((t_b - self.t).max(0.0))
+            .gauge(&self.gas, self.ambient, vb)
             .map(|_| ())
     }
 

@@ -3,9 +3,42 @@
 //! pressure): Newton's method on `(K + c M) Δq = −r` with the pseudo-time coefficient `c`
 //! following the residual (switched evolution relaxation, Mulder & van Leer 1985: `c` shrinks as
 //! the residual falls, so the iteration turns into Newton's method near the solution) and the
-//! increment capped, so that no node jumps through a fold.
+//! increment capped, so that no node jumps through a fold. Also how both take the gas pressure in
+//! an evaluation ([`Pressure`]).
 
+use crate::gas::Gas;
+use crate::model::ModelError;
 use crate::solver::Workspace;
+
+/// How the gas pressure is taken in an evaluation.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Pressure {
+    /// A fixed gauge pressure [Pa] (the design state).
+    Fixed(f64),
+    /// The gas at the end of a step of this length [s] from the committed state.
+    Step(f64),
+    /// The gas at rest (static solve).
+    Static,
+}
+
+impl Pressure {
+    /// The gauge pressure [Pa] and `dp/dV` [Pa/m³] of `gas` (ambient pressure `ambient` [Pa])
+    /// at the bag volume `v` [m³] (without the fixed inner volume).
+    pub fn gauge(self, gas: &Gas, ambient: f64, v: f64) -> Result<(f64, f64), ModelError> {
+        let bad = |_e| ModelError::NonFinite;
+        match self {
+            Pressure::Fixed(p) => Ok((p, 0.0)),
+            Pressure::Step(dt) => {
+                let (p, dp_dv) = gas.pressure(dt, v).map_err(bad)?;
+                Ok((p - ambient, dp_dv))
+            }
+            Pressure::Static => {
+                let (p, d) = gas.static_pressure(v).map_err(bad)?;
+                Ok((p - ambient, d))
+            }
+        }
+    }
+}
 
 /// What an iteration did.
 #[derive(Clone, Copy, Debug)]

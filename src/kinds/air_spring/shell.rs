@@ -39,7 +39,7 @@
 //! derivatives of `top.fx … top.my` with respect to the plate axes) is the static condensation
 //! of the tangent, with the gas: computed on request at the committed state.
 
-use super::relax::Relaxation;
+use super::relax::{Pressure, Relaxation};
 use super::scene::{Input, Output, io, names::*, piston_contour};
 use super::table::{gas_error, gas_output, gas_params};
 use super::{AXIS_Z, AirSpringScene, PLATE_AXES, PlateInput};
@@ -66,17 +66,6 @@ use nalgebra::{Matrix3, SMatrix, SVector, UnitQuaternion, Vector3};
 use std::cell::RefCell;
 use std::f64::consts::PI;
 use std::sync::Arc;
-
-/// How the gas pressure is taken in an evaluation.
-#[derive(Clone, Copy, Debug)]
-enum Pressure {
-    /// A fixed gauge pressure [Pa] (the design state).
-    Fixed(f64),
-    /// The gas at the end of a step of this length [s] from the committed state.
-    Step(f64),
-    /// The gas at rest (static solve).
-    Static,
-}
 
 /// Radius factor of an equal-area polygon of `n` sides: its vertices on the circle of radius
 /// `s r` enclose `π r²`.
@@ -693,22 +682,6 @@ impl AirSpringShell {
         self.prescribe_pose(&pose, false);
     }
 
-    /// The gauge pressure [Pa] and `dp/dV` [Pa/m³] at the bag volume `vb` [m³].
-    fn pressure(&self, mode: Pressure, vb: f64) -> Result<(f64, f64), ModelError> {
-        let bad = |_e| ModelError::NonFinite;
-        match mode {
-            Pressure::Fixed(p) => Ok((p, 0.0)),
-            Pressure::Step(dt) => {
-                let e = self.gas.evaluate(dt, vb).map_err(bad)?;
-                Ok((e.p_gauge, e.dp_dv))
-            }
-            Pressure::Static => {
-                let (p, d) = self.gas.static_pressure(vb).map_err(bad)?;
-                Ok((p - self.ambient, d))
-            }
-        }
-    }
-
     /// Residual of `mech` at the work state into the full `f` (with the iteration matrix if
     /// asked, the rank-one part if its buffer is long enough); the unit pressure load into
     /// `g`. Returns the strain energy [J].
@@ -788,7 +761,7 @@ impl AirSpringShell {
         if !(vb.is_finite() && vb > 0.0) {
             return Err(ModelError::NonFinite);
         }
-        let (p_g, dp_dv) = self.pressure(mode, vb)?;
+        let (p_g, dp_dv) = mode.gauge(&self.gas, self.ambient, vb)?;
         let check = jac.is_some();
         let mut jac = jac;
         let mut f = std::mem::take(&mut self.st.fw);
