@@ -189,6 +189,8 @@ struct Condensation {
 struct Work {
     /// Unit pressure load (= volume gradient on the free nodes), full.
     g: Vec<f64>,
+    /// Free residual of the committed state's evaluation.
+    r: Vec<f64>,
     /// Pose, rates and second rates of the plate of the evaluation.
     pose: [[f64; PLATE_AXES]; 3],
 }
@@ -415,6 +417,7 @@ impl AirSpringShell {
         let full = Mech::new(&parts, &vec![false; n_full]);
         let main_copy = main.clone();
         let asm = main.asm.clone();
+        let n_free = asm.dofs.n_free();
         let scales = asm
             .dofs
             .free_to_full()
@@ -468,6 +471,7 @@ impl AirSpringShell {
             scales,
             work: Work {
                 g: vec![0.0; n_full],
+                r: vec![0.0; n_free],
                 pose: [[0.0; PLATE_AXES]; 3],
             },
             last_strain: 0.0,
@@ -947,12 +951,9 @@ impl AirSpringShell {
     /// Evaluates the committed state (its accelerations) and books the plate load and the
     /// energies.
     fn commit_reaction(&mut self) -> Result<(), ModelError> {
-        let n = self.st.asm.dofs.n_free();
-        let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        self.st.asm.dofs.restrict(&self.st.q, &mut q);
-        self.st.asm.dofs.restrict(&self.st.v, &mut v);
-        self.st.asm.dofs.restrict(&self.st.acc, &mut a);
-        self.st.expand(&q, &v, &a);
+        self.st.qw.copy_from_slice(&self.st.q);
+        self.st.vw.copy_from_slice(&self.st.v);
+        self.st.aw.copy_from_slice(&self.st.acc);
         let pose = self.pose;
         self.work.pose[0] = pose;
         // the committed bead motion: rates of the inputs at the committed time
@@ -962,8 +963,10 @@ impl AirSpringShell {
             self.work.pose[2][i] = acc;
         }
         self.prescribe_pose(&pose, false);
-        let mut r = vec![0.0; n];
-        self.evaluate_filled(Pressure::Step(0.0), &mut r, None)?;
+        let mut r = std::mem::take(&mut self.work.r);
+        let res = self.evaluate_filled(Pressure::Step(0.0), &mut r, None);
+        self.work.r = r;
+        res?;
         let p_g = self
             .gas
             .evaluate(0.0, self.bag_volume(&self.st.qw, &pose))
@@ -1167,9 +1170,8 @@ impl AirSpringShell {
         }
         if let Some(i) = Self::output_index(o) {
             // extrapolated to the plate inputs at the committed time
-            let du: Vec<f64> = (0..PLATE_AXES)
-                .map(|j| self.plate.axis_motion(j, self.st.t).0 - self.pose[j])
-                .collect();
+            let du: [f64; PLATE_AXES] =
+                std::array::from_fn(|j| self.plate.axis_motion(j, self.st.t).0 - self.pose[j]);
             if du.iter().all(|d| *d == 0.0) {
                 return self.force[i];
             }
