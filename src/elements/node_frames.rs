@@ -17,13 +17,30 @@ use crate::snapshot::{StateReader, StateWriter};
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 /// Stored orientations of the nodes and their current frames.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct NodeFrames {
     r_ref: Vec<UnitQuaternion<f64>>,
     /// Full index of `θ_x` of every node (`θ_y`, `θ_z` follow).
     theta_at: Vec<usize>,
     /// Frames of the coordinates of the last [`NodeFrames::update`].
     work: Vec<Frame>,
+}
+
+impl Clone for NodeFrames {
+    fn clone(&self) -> Self {
+        Self {
+            r_ref: self.r_ref.clone(),
+            theta_at: self.theta_at.clone(),
+            work: self.work.clone(),
+        }
+    }
+
+    /// Field by field, so that a copy kept as scratch reuses its buffers.
+    fn clone_from(&mut self, source: &Self) {
+        self.r_ref.clone_from(&source.r_ref);
+        self.theta_at.clone_from(&source.theta_at);
+        self.work.clone_from(&source.work);
+    }
 }
 
 impl NodeFrames {

@@ -177,6 +177,19 @@ struct Condensed {
 struct Condensation {
     /// A copy of the main system's sets (the condensation assembles while the model is shared).
     main: Mech,
+    /// Scratch state (the committed one, at rest) and buffers, kept between requests.
+    st: FramedState,
+    /// Full vectors: unit pressure load, residual, patch volume gradient, `T_j`, `K T_j`, the
+    /// full direction and its `K` product.
+    g: Vec<f64>,
+    f: Vec<f64>,
+    vgrad: Vec<f64>,
+    t: Vec<f64>,
+    kt: Vec<f64>,
+    dfull: Vec<f64>,
+    dr: Vec<f64>,
+    /// Free shape change of one plate axis.
+    y: Vec<f64>,
     full: Mech,
     main_solver: Option<LinearSolver>,
     main_vals: Vec<f64>,
@@ -420,6 +433,7 @@ impl AirSpringShell {
         let main = Mech::new(&parts, &constrained);
         let full = Mech::new(&parts, &vec![false; n_full]);
         let main_copy = main.clone();
+        let scratch = FramedState::new(main.asm.clone(), frames.clone(), q0.clone());
         let asm = main.asm.clone();
         let n_free = asm.dofs.n_free();
         let scales = asm
@@ -451,6 +465,15 @@ impl AirSpringShell {
             main,
             cond: RefCell::new(Condensation {
                 main: main_copy,
+                st: scratch,
+                g: vec![0.0; n_full],
+                f: vec![0.0; n_full],
+                vgrad: vec![0.0; n_full],
+                t: vec![0.0; n_full],
+                kt: vec![0.0; n_full],
+                dfull: vec![0.0; n_full],
+                dr: vec![0.0; n_full],
+                y: vec![0.0; n_free],
                 full,
                 main_solver: None,
                 main_vals: vec![],
@@ -1013,15 +1036,21 @@ impl AirSpringShell {
             main_solver,
             main_vals,
             full_vals,
+            st,
+            g,
+            f,
+            vgrad,
+            t,
+            kt,
+            dfull,
+            dr,
+            y,
             ..
         } = cond;
-        let mut st = self.st.clone();
         st.qw.copy_from_slice(&self.st.q);
         st.vw.fill(0.0);
         st.aw.fill(0.0);
-        let n_full = st.q.len();
-        let mut g = vec![0.0; n_full];
-        let mut f = vec![0.0; n_full];
+        st.frames.clone_from(&self.st.frames);
         let vb = self.bag_volume(&self.st.q, &self.pose);
         let e = self.gas.evaluate(0.0, vb).ok()?;
         let (p_g, dp_dv) = (e.p_gauge, e.dp_dv);
@@ -1040,29 +1069,20 @@ impl AirSpringShell {
         let solver = main_solver.as_mut()?;
         Self::assemble(
             main,
-            &mut st,
-            &mut g,
+            st,
+            g,
             p_g,
             dp_dv,
-            &mut f,
+            f,
             Some((coeffs, &mut main_vals[..])),
         );
         solver.factor(&main.asm.pattern, main_vals).ok()?;
         // every coordinate free: K over all rows and columns, and the residual of the state
-        Self::assemble(
-            full,
-            &mut st,
-            &mut g,
-            p_g,
-            0.0,
-            &mut f,
-            Some((coeffs, &mut full_vals[..])),
-        );
+        Self::assemble(full, st, g, p_g, 0.0, f, Some((coeffs, &mut full_vals[..])));
         let dofs = &main.asm.dofs;
-        let n_free = dofs.n_free();
         // ∂V/∂q of every patch (for the direct volume change of a plate motion)
         let conn = main.quads.connectivity();
-        let mut vgrad = vec![0.0; n_full];
+        vgrad.fill(0.0);
         for el in 0..conn.len() {
             let d = conn.dofs(el);
             let xe: [Vector3<f64>; 4] = std::array::from_fn(|i| {
@@ -1080,11 +1100,6 @@ impl AirSpringShell {
             k: [[0.0; PLATE_AXES]; PLATE_AXES],
             dv: [0.0; PLATE_AXES],
         };
-        let mut t = vec![0.0; n_full];
-        let mut kt = vec![0.0; n_full];
-        let mut y = vec![0.0; n_free];
-        let mut dfull = vec![0.0; n_full];
-        let mut dr = vec![0.0; n_full];
         for j in 0..PLATE_AXES {
             // T_j and the turn of the plate frame
             t.fill(0.0);
@@ -1101,25 +1116,25 @@ impl AirSpringShell {
                 t[k * NODE_DOFS..k * NODE_DOFS + 3].copy_from_slice(dx.as_slice());
             }
             // the direct volume change (patches and the plate cap)
-            let mut vdir: f64 = vgrad.iter().zip(&t).map(|(a, b)| a * b).sum();
+            let mut vdir: f64 = vgrad.iter().zip(t.iter()).map(|(a, b)| a * b).sum();
             vdir += match turn {
                 Some(w) => c.dot(&w.cross(&a_out)) / 3.0,
                 None => a_out[j] / 3.0,
             };
-            full.asm.pattern.mul_vec(full_vals, &t, &mut kt);
+            full.asm.pattern.mul_vec(full_vals, t, kt);
             // ∂r_f/∂u_j = (K T)_f − dp/dV vdir g_f; y = −K_ff⁻¹ that
             for (i, &fi) in dofs.free_to_full().iter().enumerate() {
                 y[i] = -(kt[fi] - dp_dv * vdir * g[fi]);
             }
-            solver.solve_in_place(&mut y);
-            dfull.copy_from_slice(&t);
+            solver.solve_in_place(y);
+            dfull.copy_from_slice(t);
             let mut dv = vdir;
             for (i, &fi) in dofs.free_to_full().iter().enumerate() {
                 dfull[fi] = y[i];
                 dv += g[fi] * y[i];
             }
             let dp = dp_dv * dv;
-            full.asm.pattern.mul_vec(full_vals, &dfull, &mut dr);
+            full.asm.pattern.mul_vec(full_vals, dfull, dr);
             let mut df = a_out * dp
                 + match turn {
                     Some(w) => w.cross(&a_out) * p_g,
