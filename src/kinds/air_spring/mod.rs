@@ -449,9 +449,14 @@ pub struct ContactSection {
     /// `contact.stiffness` [N/m3]: penalty pressure per penetration.
     #[serde(default = "ContactSection::stiffness")]
     pub stiffness: f64,
+    /// `contact.mu` [1]: Coulomb friction between the sleeve and the piston and top plate
+    /// (level 2; default 0, frictionless).
+    #[serde(default = "ContactSection::mu")]
+    pub mu: f64,
 }
 defaults!(ContactSection {
-    stiffness: f64 = 1.0e12
+    stiffness: f64 = 1.0e12,
+    mu: f64 = 0.0
 });
 
 /// `[mesh]`.

@@ -264,15 +264,19 @@ impl AirSpring {
         );
         let n_nodes = n_el + 1;
         let n_full = 2 * n_nodes + 2;
+        // friction (`contact.mu`): a bristle as stiff per slip as the penalty per penetration
+        // (stick to within μ p / k_n, a fraction of a micrometre at 5 bar), the stick–slip
+        // switch blended over ±10 % of μ p so that Newton's method does not cycle
+        let k_n = p.real(CONTACT_STIFFNESS);
         let law = ContactLaw {
-            k_n: p.real(CONTACT_STIFFNESS),
+            k_n,
             d_n: 0.0,
-            k_t: 0.0,
+            k_t: k_n,
             d_t: 0.0,
-            mu: 0.0,
+            mu: p.real(CONTACT_MU),
             // a C¹ penalty over a penetration of a hundredth of a millimetre
             smoothing: 1e-5,
-            blend: 0.0,
+            blend: 0.1,
         };
         let obstacles = vec![
             AxisymObstacle::Piston {
@@ -747,7 +751,8 @@ impl AirSpring {
             *vals = vec![0.0; rank_one_len(&ext.asm.pattern)];
         }
         let solver = solver.as_mut()?;
-        // committed state, at rest
+        // committed state, at rest, with the committed friction (stuck points stay stuck)
+        ext.contact.copy_histories(&self.main.contact);
         work.q.copy_from_slice(&self.q);
         work.v.fill(0.0);
         work.a.fill(0.0);
@@ -1151,7 +1156,8 @@ impl Model for AirSpring {
         self.t = state.t;
         self.height = self.q[1];
         let book = self.main.contact.commit(&self.q, &self.v, false);
-        self.contact_loss += 0.5 * (self.last_damping_power + book.dissipation) * dt;
+        self.contact_loss +=
+            0.5 * (self.last_damping_power + book.dissipation) * dt + book.friction_work;
         self.last_damping_power = book.dissipation;
         self.force = self.reaction_rows(&state.acc).unwrap_or(f64::NAN);
         if self.initialized {

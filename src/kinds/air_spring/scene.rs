@@ -156,6 +156,8 @@ pub mod names {
     pub const PIPE_DIAMETER: &str = "pipe.diameter";
     /// Contact penalty [N/m3].
     pub const CONTACT_STIFFNESS: &str = "contact.stiffness";
+    /// Coulomb friction coefficient of the contact [1] (level 2).
+    pub const CONTACT_MU: &str = "contact.mu";
     /// Elements along the sleeve (Integer).
     pub const MESH_N_MERIDIONAL: &str = "mesh.n_meridional";
     /// Elements around the sleeve (Integer, shell level).
@@ -211,6 +213,15 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
             s.model.fidelity,
             crate::scene::params::describe(FIDELITIES)
         ));
+    }
+    if s.contact.mu != 0.0 && (is_shell(s) || is_table(s)) {
+        errs.push(format!(
+            "contact.mu = {}: friction is modelled at level 2 (the axisymmetric membrane) only; remove it or set model.fidelity = 2",
+            s.contact.mu
+        ));
+    }
+    if !(s.contact.mu >= 0.0 && s.contact.mu.is_finite()) {
+        errs.push("contact.mu: must be a finite number >= 0".into());
     }
     if s.mesh.n_circumferential.is_some() && !is_shell(s) {
         errs.push(
@@ -454,6 +465,15 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
         "Penalty of the contact with piston and top plate (pressure per penetration)",
         Check::Positive,
     ));
+    if !is_shell(s) && !table {
+        defs.push(real(
+            CONTACT_MU,
+            s.contact.mu,
+            Unit::One,
+            "Coulomb friction between sleeve and piston / top plate (elasto-plastic bristle of stiffness contact.stiffness per slip, blended stick-slip); 0 = frictionless (default)",
+            Check::NonNegative,
+        ));
+    }
     defs.push(ParamDef::new(
         MESH_N_MERIDIONAL,
         Value::Integer(int_param(s.mesh.n_meridional, MESH_N_MERIDIONAL)?),
