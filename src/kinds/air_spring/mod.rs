@@ -47,6 +47,8 @@ body_kind! {
         summary: "air spring: cord-rubber bellows enclosing gas, rolling on a piston",
         validation: include_str!("validation.txt"),
         legacy: |_t| false,
+        presets: |s| scene::presets(s),
+        smoke_test: |s| scene::smoke_test(s),
     }
 }
 

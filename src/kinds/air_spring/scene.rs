@@ -821,3 +821,47 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
     }
     io
 }
+
+/// Parameter presets of an air spring (FMI-LS-REF parameter sets, [`crate::ls_ref`]): the
+/// isothermal gas (n = 1), the energy-balance gas law, and 80 % of the design pressure.
+pub fn presets(_s: &AirSpringScene) -> Vec<crate::ls_ref::Preset> {
+    use crate::ls_ref::{
+        Preset,
+        PresetValue::{Scale, Set},
+    };
+    vec![
+        Preset {
+            name: "isothermal",
+            description: "isothermal gas: gas.polytropic_exponent = 1".into(),
+            changes: vec![(GAS_POLYTROPIC_EXPONENT, Set(Value::Real(1.0)))],
+        },
+        Preset {
+            name: "energy_law",
+            description: "gas law from the energy balance (gas.model = 2)".into(),
+            changes: vec![(GAS_MODEL, Set(Value::Integer(2)))],
+        },
+        Preset {
+            name: "pressure_low",
+            description: "design pressure 80 % of the default".into(),
+            changes: vec![(GAS_PRESSURE_DESIGN, Scale(0.8))],
+        },
+    ]
+}
+
+/// Smoke test of an air spring: the plate rises by up to 2 mm and back (`top.z` and,
+/// consistently, `top.vz`); the other plate inputs stay at their start values.
+pub fn smoke_test(_s: &AirSpringScene) -> crate::ls_ref::SmokeTest {
+    use crate::ls_ref::{Shape, SmokeTest, Stimulus};
+    SmokeTest::with(vec![
+        Stimulus {
+            input: "top.z".into(),
+            amplitude: 1e-3,
+            shape: Shape::Excursion,
+        },
+        Stimulus {
+            input: "top.vz".into(),
+            amplitude: 1e-3,
+            shape: Shape::Rate,
+        },
+    ])
+}
