@@ -124,7 +124,7 @@ pub fn rolling_lobe_start(
 fn half_ellipse(a: [f64; 2], b: [f64; 2], length: f64, n: usize) -> Result<Vec<[f64; 2]>, String> {
     let (dr, dz) = (b[0] - a[0], b[1] - a[1]);
     let c = (dr * dr + dz * dz).sqrt();
-    if !(length > c * (1.0 + 1e-9)) || c == 0.0 {
+    if length.is_nan() || length <= c * (1.0 + 1e-9) || c == 0.0 {
         return Err(format!(
             "a convolution of {length:.4} m (stretched sleeve) cannot span the {c:.4} m between its rings"
         ));
@@ -198,7 +198,7 @@ pub fn convoluted_start(
     match girdle {
         None => half_ellipse(top, bottom, length, n),
         Some(rg) => {
-            if n % 2 != 0 || n < 2 {
+            if !n.is_multiple_of(2) || n < 2 {
                 return Err(format!(
                     "{n} elements: a double-convoluted sleeve needs an even number (the girdle is the middle node)"
                 ));

@@ -140,7 +140,7 @@ impl Mounting {
         let n_el = p.integer(MESH_N_MERIDIONAL).max(2) as usize;
         let rg = (scene::n_convolutions(scene) == 2).then(|| p.real(GIRDLE_RADIUS));
         if let Some(rg) = rg
-            && n_el % 2 != 0
+            && !n_el.is_multiple_of(2)
         {
             return Err(format!(
                 "{MESH_N_MERIDIONAL} = {n_el}: a double-convoluted sleeve needs an even number of elements (the girdle ring {GIRDLE_RADIUS} = {rg} m holds the middle node)"
