@@ -54,6 +54,12 @@ pub enum AxisymObstacle {
         /// Outer radius of the plate [m].
         radius: f64,
     },
+    /// The bottom plate of a convoluted spring: the solid `z < z₀` for `r` up to `radius` [m]
+    /// (beyond it no contact), `z₀` the obstacle coordinate.
+    Floor {
+        /// Outer radius of the plate [m].
+        radius: f64,
+    },
 }
 
 /// Committed friction history of a (meridian point, obstacle) pair.
@@ -153,6 +159,12 @@ impl AxisymObstacle {
                 }
                 Some((z - z0, Vector2::new(0.0, -1.0), [0.0, 1.0, -1.0]))
             }
+            AxisymObstacle::Floor { radius } => {
+                if r > *radius {
+                    return None;
+                }
+                Some((z0 - z, Vector2::new(0.0, 1.0), [0.0, -1.0, 1.0]))
+            }
         }
     }
 }
@@ -213,7 +225,7 @@ impl Obstacle<2> for AxisymObstacle {
                 let r = a.x.min(b.x);
                 r <= r_max || r.is_nan()
             }
-            AxisymObstacle::Plate { .. } => true,
+            AxisymObstacle::Plate { .. } | AxisymObstacle::Floor { .. } => true,
         }
     }
 
@@ -473,9 +485,11 @@ mod tests {
             contour: vec![[0.11, 0.0], [0.1, 0.1], [0.1, 0.15]],
         };
         let plate = AxisymObstacle::Plate { radius: 0.2 };
+        let floor = AxisymObstacle::Floor { radius: 0.2 };
         let cases = [
             (&piston, [0.1045, 0.05, 0.001], [0.1, -0.2, 0.05]),
             (&plate, [0.13, 0.25002, 0.25], [0.1, 0.3, -0.2]),
+            (&floor, [0.13, -0.00002, 0.0], [0.1, -0.3, 0.2]),
         ];
         for (ob, x, v) in cases {
             let eval = |x: [f64; 3], v: [f64; 3]| {
@@ -571,6 +585,18 @@ mod tests {
                 )
                 .is_none()
         );
+        let floor = AxisymObstacle::Floor { radius: 0.15 };
+        let c = floor
+            .evaluate(&law(), 1.0, &at(0.1, -0.0001), &[0.0], &[0.0], &NoHistory)
+            .unwrap();
+        assert!(c.force.y > 0.0 && c.force.x == 0.0 && c.generalized_force(0) < 0.0);
+        for (r, z) in [(0.1, 0.0001), (0.16, -0.0001)] {
+            assert!(
+                floor
+                    .evaluate(&law(), 1.0, &at(r, z), &[0.0], &[0.0], &NoHistory)
+                    .is_none()
+            );
+        }
         let plate = AxisymObstacle::Plate { radius: 0.15 };
         let c = plate
             .evaluate(
