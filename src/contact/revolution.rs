@@ -587,13 +587,27 @@ mod tests {
         );
         let floor = AxisymObstacle::Floor { radius: 0.15 };
         let c = floor
-            .evaluate(&law(), 1.0, &at(0.1, -0.0001), &[0.0], &[0.0], &NoHistory)
+            .evaluate(
+                &law(),
+                1.0,
+                &at(0.1, -0.0001),
+                &[0.0],
+                &[0.0],
+                &SlideHistory::default(),
+            )
             .unwrap();
         assert!(c.force.y > 0.0 && c.force.x == 0.0 && c.generalized_force(0) < 0.0);
         for (r, z) in [(0.1, 0.0001), (0.16, -0.0001)] {
             assert!(
                 floor
-                    .evaluate(&law(), 1.0, &at(r, z), &[0.0], &[0.0], &NoHistory)
+                    .evaluate(
+                        &law(),
+                        1.0,
+                        &at(r, z),
+                        &[0.0],
+                        &[0.0],
+                        &SlideHistory::default()
+                    )
                     .is_none()
             );
         }
@@ -715,6 +729,7 @@ mod tests {
             contour: vec![[0.11, 0.0], [0.1, 0.1], [0.1, 0.15]],
         };
         let plate = AxisymObstacle::Plate { radius: 0.2 };
+        let floor = AxisymObstacle::Floor { radius: 0.2 };
         let law = friction_law();
         // the trial stress f* at `target` × μ p: stick, the blend zone, sliding either way
         for (ob, x, v, target, expect) in [
@@ -741,6 +756,8 @@ mod tests {
             ),
             (&plate, [0.13, 0.251, 0.25], [0.1, 0.3, -0.2], -0.5, "stick"),
             (&plate, [0.13, 0.251, 0.25], [0.1, 0.3, -0.2], 2.0, "slide"),
+            (&floor, [0.13, -0.001, 0.0], [0.1, -0.3, 0.2], 0.5, "stick"),
+            (&floor, [0.13, -0.001, 0.0], [0.1, -0.3, 0.2], -1.5, "slide"),
         ] {
             // the committed point: shifted along the tangent from x
             let at = |x: [f64; 3], v: [f64; 3]| PointMotion {

@@ -488,6 +488,11 @@ pub struct PipeSection {
     pub diameter: f64,
 }
 
+/// Whether `x` is 0 (a default left out when a scene is written back).
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 /// `[contact]`.
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
@@ -497,7 +502,7 @@ pub struct ContactSection {
     pub stiffness: f64,
     /// `contact.mu` [1]: Coulomb friction between the sleeve and the piston and top plate
     /// (level 2; default 0, frictionless).
-    #[serde(default = "ContactSection::mu")]
+    #[serde(default = "ContactSection::mu", skip_serializing_if = "is_zero")]
     pub mu: f64,
 }
 defaults!(ContactSection {

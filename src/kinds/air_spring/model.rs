@@ -371,7 +371,12 @@ impl AirSpring {
             d_n: 0.0,
             k_t: k_n,
             d_t: 0.0,
-            mu: p.real(CONTACT_MU),
+            // level 2's parameter; 0 where the membrane serves another level (the shell's
+            // design state, a table's generation)
+            mu: match p.get(CONTACT_MU) {
+                Some(crate::variables::Value::Real(mu)) => mu,
+                _ => 0.0,
+            },
             // a C¹ penalty over a penetration of a hundredth of a millimetre
             smoothing: 1e-5,
             blend: 0.1,
