@@ -62,8 +62,11 @@ def needed(library, os_name, exe=None):
     if os_name == "darwin":
         out = subprocess.run([exe, "--macho", "--dylibs-used", str(library)], capture_output=True,
                              text=True, check=True).stdout
-        # first line: the file name; then one "\t<path> (compatibility version ...)" per dylib
-        return [line.split(" (")[0].strip() for line in out.splitlines()[1:] if line.strip()]
+        # first line: the file name; then one "\t<path> (compatibility version ...)" per dylib,
+        # like otool -L, which lists a dylib's own install name (LC_ID_DYLIB) too: left out
+        names = [line.split(" (")[0].strip() for line in out.splitlines()[1:] if line.strip()]
+        own = pathlib.PurePath(library).name
+        return [n for n in names if pathlib.PurePath(n).name != own]
     out = subprocess.run([exe, "-p", str(library)], capture_output=True, text=True, check=True).stdout
     if os_name == "linux":
         return re.findall(r"^\s*NEEDED\s+(\S+)", out, flags=re.M)
