@@ -30,7 +30,8 @@
 //! Run: `cargo run --release --example bench_air_spring [out-dir] [name=value ...]` (default
 //! `build/bench`; `name=value` overrides a parameter of the scene, e.g. `solver.rho_inf=0.9`);
 //! writes `air_spring.csv` (one row per level and mesh: wall time per simulated second and
-//! the errors); `scripts/bench_air_spring.py` runs it and plots `docs/air_spring_pareto.png`.
+//! the errors; `BENCH_SECTIONS=level2,breakdown,level3,level1,fmi` picks sections, default all);
+//! `scripts/bench_air_spring.py` runs it and plots `docs/air_spring_pareto.png`.
 
 mod bench_util;
 
@@ -497,14 +498,25 @@ fn main() {
     if !extra.is_empty() {
         println!("parameter overrides: {args:?}\n");
     }
+    // `BENCH_SECTIONS=level2,fmi` runs only those sections (default: all)
+    let sections = std::env::var("BENCH_SECTIONS").unwrap_or_default();
+    let run = |s: &str| sections.is_empty() || sections.split(',').any(|x| x == s);
     let mut rows = vec![];
-    level2(&mut rows, &extra);
-    breakdown();
+    if run("level2") {
+        level2(&mut rows, &extra);
+    }
+    if run("breakdown") {
+        breakdown();
+    }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    if root.join("air_spring_table.toml").exists() {
+    if run("level3") && root.join("air_spring_table.toml").exists() {
         level3(&mut rows);
     }
-    level1(&mut rows);
-    fmi_rows();
+    if run("level1") {
+        level1(&mut rows);
+    }
+    if run("fmi") {
+        fmi_rows();
+    }
     write_csv(&out, &rows);
 }

@@ -89,8 +89,18 @@ pub struct Instance {
     pub(super) dirty: bool,
     /// Input derivatives set before the simulation exists (applied when it is built).
     pub(super) pending_derivatives: Vec<(u32, usize, f64)>,
-    /// Outputs and time before the last step (fallback output derivatives).
+    /// Outputs and time before the last step (fallback output derivatives); an output that
+    /// had never been read then is NaN (its derivative is not available by differences).
     pub(super) previous_outputs: Option<(f64, Vec<Value>)>,
+    /// Per variable: an output whose stored value is older than the simulation (computed
+    /// when it is read: an importer pays only for the outputs it reads).
+    pub(super) stale: Vec<bool>,
+    /// Per variable: an output whose derivative the importer has asked for
+    /// (fmi2GetRealOutputDerivatives); these are brought up to date before each step for the
+    /// derivatives by differences. Others are not: with direct feedthrough a value at the new
+    /// inputs can cost a condensation (the air spring's force), which a master that reads the
+    /// force only after the step should not pay.
+    pub(super) wanted: Vec<bool>,
     pub(super) last_successful_time: f64,
     pub(super) terminated: bool,
     pub(super) last_step_status: Status,
@@ -150,10 +160,14 @@ impl Instance {
             dirty: true,
             pending_derivatives: Vec::new(),
             previous_outputs: None,
+            stale: Vec::new(),
+            wanted: Vec::new(),
             last_successful_time: 0.0,
             terminated: false,
             last_step_status: Status::Ok,
         };
+        inst.stale = vec![false; inst.values.len()];
+        inst.wanted = vec![false; inst.values.len()];
         inst.info(format!(
             "instantiated \"{}\" ({} variables)",
             inst.scene.model_name(),
@@ -357,25 +371,45 @@ impl Instance {
         Ok(())
     }
 
-    /// Recomputes the outputs with direct feedthrough from input `vr` (after it was set).
+    /// Marks the outputs with direct feedthrough from input `vr` (after it was set) for
+    /// recomputation.
     fn refresh_feedthrough(&mut self, vr: u32) {
-        if let Some(sim) = &self.sim {
-            for (v, val) in self.vars.vars().iter().zip(self.values.iter_mut()) {
-                if let Role::Output(kind) = v.role
-                    && v.depends_on.contains(&vr)
-                {
-                    *val = Value::Real(sim.output(kind));
+        if self.sim.is_some() {
+            for (v, stale) in self.vars.vars().iter().zip(self.stale.iter_mut()) {
+                if matches!(v.role, Role::Output(_)) && v.depends_on.contains(&vr) {
+                    *stale = true;
                 }
             }
         }
     }
 
+    /// Marks every output for recomputation (after the simulation changed). Nothing is
+    /// computed here: [`Self::fresh`] computes an output when it is read, so an importer
+    /// that reads one force does not pay for, say, a stiffness output's condensation.
     pub(super) fn refresh_outputs(&mut self) {
-        if let Some(sim) = &self.sim {
-            for (v, val) in self.vars.vars().iter().zip(self.values.iter_mut()) {
-                if let Role::Output(kind) = v.role {
-                    *val = Value::Real(sim.output(kind));
-                }
+        if self.sim.is_some() {
+            for (v, stale) in self.vars.vars().iter().zip(self.stale.iter_mut()) {
+                *stale = matches!(v.role, Role::Output(_));
+            }
+        }
+    }
+
+    /// Brings the stored value of variable `vr` up to date if it is a stale output.
+    pub(super) fn fresh(&mut self, vr: u32) {
+        let i = vr as usize;
+        if self.stale[i] {
+            if let (Some(sim), Role::Output(kind)) = (&self.sim, self.vars.vars()[i].role) {
+                self.values[i] = Value::Real(sim.output(kind));
+            }
+            self.stale[i] = false;
+        }
+    }
+
+    /// Brings every output whose derivative the importer has asked for up to date.
+    pub(super) fn fresh_wanted(&mut self) {
+        for i in 0..self.values.len() {
+            if self.wanted[i] {
+                self.fresh(i as u32);
             }
         }
     }
@@ -429,6 +463,8 @@ impl Instance {
         self.dirty = true;
         self.pending_derivatives.clear();
         self.previous_outputs = None;
+        self.stale.fill(false);
+        self.wanted.fill(false);
         self.last_successful_time = 0.0;
         self.terminated = false;
         self.last_step_status = Status::Ok;
@@ -482,6 +518,7 @@ impl Instance {
             return s;
         }
         for (i, &vr) in vrs.iter().enumerate() {
+            self.fresh(vr);
             out(i, self.values[vr as usize]);
         }
         Status::Ok
@@ -616,12 +653,20 @@ impl Instance {
             );
             return self.error(msg);
         }
+        self.fresh_wanted();
         match self.previous_outputs.as_mut() {
             Some((tp, vals)) => {
                 *tp = now;
                 vals.copy_from_slice(&self.values);
             }
             None => self.previous_outputs = Some((now, self.values.clone())),
+        }
+        if let Some((_, vals)) = self.previous_outputs.as_mut() {
+            for (val, &stale) in vals.iter_mut().zip(&self.stale) {
+                if stale {
+                    *val = Value::Real(f64::NAN);
+                }
+            }
         }
         let Some(sim) = self.sim.as_mut() else {
             return Status::Error;

@@ -296,15 +296,19 @@ impl Instance {
                     call.name()
                 ));
             }
+            self.wanted[vr as usize] = true;
+            self.fresh(vr);
             let Some(sim) = self.sim.as_ref() else {
                 return self.error(format!("{}: no simulation", call.name()));
             };
+            // by differences: 0 where there is no previous value (the first step, or an
+            // output first read after the last step)
             out[i] = match sim.output_derivative(kind) {
                 Some(d) => d,
                 None => match (&self.previous_outputs, self.values[vr as usize]) {
                     (Some((tp, prev)), Value::Real(y)) if sim.time() > *tp => {
                         match prev[vr as usize] {
-                            Value::Real(yp) => (y - yp) / (sim.time() - tp),
+                            Value::Real(yp) if yp.is_finite() => (y - yp) / (sim.time() - tp),
                             _ => 0.0,
                         }
                     }

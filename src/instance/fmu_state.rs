@@ -119,6 +119,7 @@ impl Instance {
     pub fn save_fmu_state(&mut self, call: Call) -> Result<Vec<u8>, Status> {
         self.trace(|| format!("{}()", call.name()));
         self.check(call)?;
+        self.fresh_wanted();
         let mut p = StateWriter::new();
         p.u64(state_code(self.state));
         write_values(&mut p, &self.values);
@@ -319,6 +320,9 @@ impl Instance {
         self.last_step_status = last_step_status;
         self.pending_derivatives = pending;
         self.previous_outputs = previous_outputs;
+        // outputs follow from the restored simulation when they are read
+        self.stale.fill(false);
+        self.refresh_outputs();
         // Tunable solver settings follow the restored parameter values.
         let params = self.param_values();
         if self.scene.validate_params(&params).is_ok() {
