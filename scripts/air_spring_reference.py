@@ -662,6 +662,249 @@ def closed(heights, design=(0.25, 5e5), n=1.4, spring=DEFAULT, dh=1e-4, tol=1e-1
     return cols
 
 
+# ---------------------------------------------------------------------------------------------
+# Convoluted (single or double bellows) spring: the same membrane equations between two bead
+# plates, the girdle ring pinning the radius at mid-length (issue 11 item 2, second geometry).
+#
+# Geometry (heights z above the bottom plate): the sleeve (stress-free cylinder R0, length L) is
+# clamped at the top bead (r_b, h) and the bottom bead (r_b, 0) (equal bead radii); with two
+# convolutions a rigid girdle ring at S = L/2 pins r = r_g and is free along the axis. Both
+# plates are flat frictionless obstacles: where a lobe overhangs its bead it lies on the plate
+# (phi = 0 from the top bead outwards), and leaves it tangentially (no line load at a free
+# departure point, as on the piston).
+#
+# Symmetry: with equal bead radii (and the girdle at mid-length) the equilibrium is symmetric
+# about z = h/2, so only the upper half S in [0, L/2] is integrated, from the top bead down:
+#   dr/dS = lam_s cos phi, dz/dS = lam_s sin phi, dphi/dS = -(p r lam_s + W_t sin phi)/(R0 W_s),
+#   dlam_s/dS = cos phi (W_t - lam_s W_st)/(R0 W_ss)                 (equations (1) above),
+# on the plate (phi = 0, z = h): dr/dS = lam_s, the same dlam_s/dS, contact pressure = p.
+# Unknowns: (phi_0, q_0) at the bead, or (S_d, q_0) (q_0 = r N_s there) when the sleeve lies on the plate up to
+# the departure point S_d. Conditions at S = L/2: two convolutions: r = r_g, z = h/2 (the girdle's
+# height is free, symmetry puts it at mid-height); one convolution: z = h/2, phi = -pi/2
+# (vertical tangent at the crest, the mirror plane).
+# Force: the first integral r N_s sin phi + p r^2/2 = C is constant along the free meridian and
+# across the axially free girdle (it only takes a radial load), so F = 2 pi C: at the top bead
+# without contact, F = p pi r_d^2 at the departure point from the plate (A_e = pi r_h^2 there,
+# the horizontal-tangent point nearest the top). Volume V = 2 (-int pi r^2 dz) over the half.
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Convoluted:
+    """A convoluted spring: bead radius (top = bottom), girdle radius [m] (None: one
+    convolution), sleeve R0, L [m], cord angle [deg from the meridian], stiffnesses [N/m]."""
+
+    r_b: float = 0.115
+    r_g: float = 0.110
+    R0: float = 0.150
+    L: float = 0.340
+    alpha0_deg: float = 54.0
+    n_plies: int = 2
+    K_c: float = 1.5e6
+    Et: float = 2.0e4
+
+
+CONVOLUTED = Convoluted()
+
+
+class ConvolutedShot:
+    """Shooting problem of the upper half of a convoluted spring at height h [m], gauge p [Pa].
+    contact=False: unknowns (phi_0, q_0) at the top bead (q_0 = r N_s [N/m]); contact=True: (S_d, q_0), the sleeve
+    on the top plate from the bead out to S_d."""
+
+    def __init__(self, h, p_gauge, spring=CONVOLUTED, tol=1e-11, contact=False):
+        self.h, self.p, self.spring, self.tol, self.contact = h, p_gauge, spring, tol, contact
+        self.energy, self.dW = wall_law(spring)
+        sp = spring
+        self.scale = (sp.L, sp.L, 1.0, 1.0)
+        R0, dW, energy, p = sp.R0, self.dW, self.energy, p_gauge
+        cos, sin, pi = math.cos, math.sin, math.pi
+
+        def free(y):
+            r, z, phi, ls = y[0], y[1], y[2], y[3]
+            if r <= 0.0 or ls <= 0.0:
+                raise ShotFailure("r or lam_s not positive")
+            lt = r / R0
+            w_s, w_t, w_ss, w_st = dW(ls, lt)
+            if w_s <= 0.0 or w_ss <= 0.0:
+                raise ShotFailure("meridional force not positive")
+            c, s_ = cos(phi), sin(phi)
+            z_S = ls * s_
+            return [ls * c, z_S, -(p * r * ls + w_t * s_) / (R0 * w_s), c * (w_t - ls * w_st) / (R0 * w_ss),
+                    -pi * r * r * z_S, 2.0 * pi * R0 * energy(ls, lt)]
+
+        def flat(y):
+            r, ls = y[0], y[3]
+            if r <= 0.0 or ls <= 0.0:
+                raise ShotFailure("r or lam_s not positive")
+            lt = r / R0
+            w_s, w_t, w_ss, w_st = dW(ls, lt)
+            if w_ss <= 0.0:
+                raise ShotFailure("wall law not convex")
+            return [ls, 0.0, 0.0, (w_t - ls * w_st) / (R0 * w_ss), 0.0, 2.0 * pi * R0 * energy(ls, lt)]
+
+        self.free, self.flat = free, flat
+
+    def shoot(self, x, meshes=None):
+        """Segments [(t, y)] of the flat part (contact) and the free part up to S = L/2."""
+        sp, half = self.spring, 0.5 * self.spring.L
+        # x[1] is the meridional force r N_s = R0 W_s at the bead [N/m] (lam_0 from the wall law:
+        # near the bead the hoop is compressed and lam_0 a poor unknown, W_s being steep there)
+        if x[1] <= 0.0:
+            raise ShotFailure("no meridional tension at the bead")
+        lam0 = stretch_for_force(sp, x[1], sp.r_b / sp.R0)
+        y0 = [sp.r_b, self.h, 0.0 if self.contact else x[0], lam0, 0.0, 0.0]
+        segs = []
+        if self.contact:
+            if not 0.0 < x[0] < half:
+                raise ShotFailure("departure point outside the half sleeve")
+            seg = integrate(self.flat, y0, x[0], self.tol, self.scale, mesh=None if meshes is None else meshes[0])
+            segs.append(seg)
+            y0 = list(seg[-1][1])
+        free_len = half - (x[0] if self.contact else 0.0)
+        m = None if meshes is None else meshes[-1]
+        segs.append(integrate(self.free, y0, free_len, self.tol, self.scale, mesh=m))
+        return segs
+
+    def residual(self, segs):
+        sp = self.spring
+        y = segs[-1][-1][1]
+        if sp.r_g is not None:
+            return np.array([(y[0] - sp.r_g) / sp.L, (y[1] - 0.5 * self.h) / sp.L])
+        return np.array([(y[1] - 0.5 * self.h) / sp.L, y[2] + 0.5 * math.pi])
+
+    def newton(self, x0, max_iter=60, fd=1e-7, atol=1e-12):
+        x = np.array(x0, dtype=float)
+        segs = self.shoot(x)
+        res = self.residual(segs)
+        for _ in range(max_iter):
+            norm = np.max(np.abs(res))
+            if norm < atol:
+                return x, segs
+            meshes = [[t / seg[-1][0] for t, _ in seg[1:]] for seg in segs]
+            jac = np.zeros((2, 2))
+            for j in range(2):
+                xp = x.copy()
+                dx = fd * max(1.0, abs(x[j]))
+                xp[j] += dx
+                jac[:, j] = (self.residual(self.shoot(xp, meshes)) - res) / dx
+            step = -np.linalg.solve(jac, res)
+            lam = 1.0
+            while True:
+                try:
+                    trial = x + lam * step
+                    segs_t = self.shoot(trial)
+                    res_t = self.residual(segs_t)
+                    if np.max(np.abs(res_t)) < norm:
+                        break
+                except ShotFailure:
+                    pass
+                lam *= 0.5
+                if lam < 1e-6:
+                    if norm < 1e-10:
+                        return x, segs
+                    raise ShotFailure(f"line search failed at residual {norm:.3e}")
+            x, segs, res = trial, segs_t, res_t
+        if np.max(np.abs(res)) < 1e-10:
+            return x, segs
+        raise ShotFailure(f"Newton did not converge: {np.max(np.abs(res)):.3e}")
+
+
+def solve_convoluted(h, p_gauge, spring=CONVOLUTED, start=None, tol=1e-11):
+    """Static equilibrium of a convoluted spring at plate-to-plate height h [m] and gauge
+    pressure p_gauge [Pa]: dict with F [N] (on the top plate, > 0 pushes it up), V [m^3], A_e,
+    U [J] (strain energy), r_h [m] (departure radius from the top plate, or None without
+    contact: A_e = pi r_h^2), lobe_radius [m], girdle_angle [rad] (meridian angle arriving at
+    the girdle), contact (the sleeve lies on the plates), x (pass the dict as `start`)."""
+    guesses = []
+    if start is not None:
+        guesses.append((start["x"], start["contact"]))
+        guesses.append(([0.002, start["x"][1]] if not start["contact"] else [0.0, start["x"][1]], not start["contact"]))
+    # the meridional force of a half-torus lobe out to 1.45 r_b: r N_s ~ p (r_o^2 - r_b^2)/4
+    q0 = 0.25 * p_gauge * ((1.45 * spring.r_b) ** 2 - spring.r_b**2)
+    failures = []
+
+    def tries():
+        yield from guesses
+        yield from _convoluted_grid(h, p_gauge, spring, q0)  # only when the neighbour fails
+
+    for x0, contact in tries():
+        m = ConvolutedShot(h, p_gauge, spring, tol, contact)
+        try:
+            x, segs = m.newton(x0)
+        except (ShotFailure, np.linalg.LinAlgError, ValueError, OverflowError) as e:
+            failures.append(str(e))
+            continue
+        if not contact and math.sin(x[0]) > 1e-9:
+            failures.append("the free meridian rises into the top plate")
+            continue
+        return _convoluted_result(m, x, segs)
+    raise ShotFailure(f"no convoluted equilibrium at h = {h}, p = {p_gauge}: {failures}")
+
+
+def _convoluted_grid(h, p_gauge, spring, q0):
+    """Start points for Newton: the best shots of a coarse grid over (S_d, q_0) on the plate and
+    (phi_0, q_0) off it (q_0 from 0.4 to 2.2 times the half-torus estimate), best first."""
+    found = []
+    for contact, firsts in ((True, np.linspace(0.001, 0.4 * spring.L, 16)), (False, np.linspace(-1.5, 0.0, 16))):
+        m = ConvolutedShot(h, p_gauge, spring, 1e-7, contact)
+        for a in firsts:
+            for q in np.linspace(0.4, 2.2, 19) * q0:
+                try:
+                    found.append((float(np.max(np.abs(m.residual(m.shoot([a, q]))))), [a, q], contact))
+                except (ShotFailure, ValueError, OverflowError, ZeroDivisionError):
+                    pass
+    found.sort(key=lambda f: f[0])
+    return [(x, c) for _, x, c in found[:4]]
+
+
+def _convoluted_result(m, x, segs):
+    sp, p = m.spring, m.p
+    pts = [y for seg in segs for _, y in seg]
+    y_end = pts[-1]
+    if m.contact:
+        r_d = segs[0][-1][1][0]
+        F = p * math.pi * r_d**2
+    else:
+        r_d = None
+        F = 2.0 * math.pi * (x[1] * math.sin(x[0]) + 0.5 * p * sp.r_b**2)
+    V = 2.0 * y_end[4]
+    U = 2.0 * y_end[5]  # accumulated over the flat and the free part
+    # the first integral at the end of the half (the girdle's upper side)
+    r, phi, ls = y_end[0], y_end[2], y_end[3]
+    c_end = sp.R0 * m.dW(ls, r / sp.R0)[0] * math.sin(phi) + 0.5 * p * r * r
+    warnings = []
+    if any(y[1] > m.h + 1e-9 for y in pts):
+        warnings.append("the free meridian rises above the top plate")
+    if any(y[1] < 0.5 * m.h - 1e-9 for y in pts):
+        warnings.append("the upper convolution crosses the mirror plane (the lobes overlap)")
+    return {
+        "h": m.h, "p_gauge": p, "F": F, "V": V, "A_e": F / p if p else None, "U": U,
+        "F_end": 2.0 * math.pi * c_end, "r_h": r_d, "lobe_radius": max(y[0] for y in pts),
+        "girdle_angle": phi, "contact": m.contact, "x": list(x), "warnings": warnings,
+        "shape": {"r": [y[0] for y in pts], "z": [y[1] for y in pts]},
+    }
+
+
+def convoluted_characteristic(heights, p_gauge, spring=CONVOLUTED, dh=1e-4, tol=1e-11):
+    """Constant-pressure characteristic of a convoluted spring: per height h [m]: F [N], V [m^3],
+    A_e [m^2], A_v = dV/dh [m^2], k = -dF/dh [N/m], dAe_dh [m], U [J], dU_dh [N], r_h, lobe_radius
+    [m], contact. Derivatives by central differences (dh [m])."""
+    keys = "h p_gauge F V A_e A_v k dAe_dh U dU_dh r_h lobe_radius contact".split()
+    cols = {k: [] for k in keys}
+    prev = None
+    for h in heights:
+        res = solve_convoluted(h, p_gauge, spring, prev, tol)
+        up, dn = (solve_convoluted(h + s * dh, p_gauge, spring, res, tol) for s in (1, -1))
+        row = {"A_v": (up["V"] - dn["V"]) / (2 * dh), "k": -(up["F"] - dn["F"]) / (2 * dh),
+               "dAe_dh": (up["A_e"] - dn["A_e"]) / (2 * dh), "dU_dh": (up["U"] - dn["U"]) / (2 * dh)}
+        for k in keys:
+            v = row[k] if k in row else res[k]
+            cols[k].append(-1.0 if v is None else _plain(v))
+        prev = res
+    return cols
+
+
 ISSUE_DESIGN = {"F": 21533.04, "V": 8.456949e-3, "A_e": 0.043066}  # issue 11 item 7 [N, m^3, m^2]
 HEIGHTS = [round(0.20 + 0.01 * i, 2) for i in range(11)]  # [m]
 
@@ -795,11 +1038,41 @@ def curves_toml(data):
     return "\n\n".join(parts) + "\n"
 
 
+CONVOLUTED_HEIGHTS = [round(0.17 + 0.01 * i, 2) for i in range(7)]  # [m]
+
+
+def convoluted_toml(log=print):
+    """tests/data/air_spring_convoluted_reference.toml: the shipped double-convoluted spring
+    (scenes/air_spring_convoluted.toml) at 5 bar over CONVOLUTED_HEIGHTS, constant pressure."""
+    log("convoluted: constant pressure, 5 bar")
+    c = convoluted_characteristic(CONVOLUTED_HEIGHTS, 5e5, CONVOLUTED)
+    lines = [
+        "# Generated by scripts/air_spring_reference.py --convoluted: do not edit.",
+        "# Double-convoluted spring of scenes/air_spring_convoluted.toml (equal beads, girdle at mid-length),",
+        "# shooting solution of the membrane equations (upper half, mirror symmetry), constant gauge pressure.",
+        "# h [m] plate to plate; F [N] on the top plate; V [m^3]; A_e = F/p [m^2]; A_v = dV/dh [m^2];",
+        "# k = -dF/dh [N/m]; r_h [m] departure radius from the top plate (-1: no contact); lobe_radius [m].",
+        "[spring]",
+    ]
+    lines += [f"{k} = {float(v)!r}" for k, v in dataclasses.asdict(CONVOLUTED).items()]
+    lines.append("\n[constant_pressure]")
+    for k, v in c.items():
+        lines.append(f"{k} = [" + ", ".join(("true" if x else "false") if isinstance(x, bool) else repr(float(x)) for x in v) + "]")
+    return "\n".join(lines) + "\n"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--convoluted", action="store_true",
+                    help="write tests/data/air_spring_convoluted_reference.toml only")
     ap.add_argument("--out", default=str(ROOT / "tests" / "data" / "air_spring_reference.json"))
     ap.add_argument("--figure", default=str(ROOT / "docs" / "air_spring_reference.png"))
     args = ap.parse_args(argv)
+    if args.convoluted:
+        out = ROOT / "tests" / "data" / "air_spring_convoluted_reference.toml"
+        out.write_text(convoluted_toml(log=lambda msg: print(msg, file=sys.stderr)))
+        print(f"wrote {out}")
+        return
     data = build_reference(log=lambda msg: print(msg, file=sys.stderr))
     pathlib.Path(args.out).write_text(json.dumps(data, indent=1) + "\n")
     pathlib.Path(args.out).with_suffix(".toml").write_text(curves_toml(data))

@@ -29,6 +29,7 @@ pub mod integrators;
 pub mod kinds;
 pub mod linalg;
 pub mod logging;
+pub mod ls_ref;
 pub mod meshers;
 pub mod model;
 pub mod model_description;

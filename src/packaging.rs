@@ -1,11 +1,13 @@
 //! Packaging an FMU: `modelDescription.xml`, `resources/scene.toml`, the documentation,
-//! licences, icon and terminals ([`crate::docs`]) and one shared library per platform as
+//! licences, icon and terminals ([`crate::docs`]), the FMI-LS-REF reference files
+//! ([`crate::ls_ref`]) and one shared library per platform as
 //! `binaries/<platform>/<modelIdentifier>.<ext>`, zipped; adding platforms to an existing FMU.
 
 use crate::docs::documentation_files;
 use crate::docs::osp::{osp_file_name, osp_model_description};
 use crate::docs::terminals::terminals;
 use crate::instance::SCENE_FILE;
+use crate::ls_ref::ls_ref_files;
 use crate::model_description::model_description;
 use crate::scene::Scene;
 use crate::variables::VariableTable;
@@ -201,7 +203,9 @@ fn write_zip(out: &Path, entries: &[(String, Vec<u8>)]) -> Result<(), String> {
 
 /// Writes the FMU of `scene` to `out` with one shared library per platform: the model
 /// description, the scene (`resources/`), the documentation, licences, icon and terminals
-/// ([`crate::docs::documentation_files`]) and `binaries/<platform>/`; and, next to it, the
+/// ([`crate::docs::documentation_files`]), the FMI-LS-REF files
+/// ([`crate::ls_ref::ls_ref_files`]: runs the smoke test) and `binaries/<platform>/`; and,
+/// next to it, the
 /// OSP side file `<stem>_OspModelDescription.xml`. Returns the paths written.
 pub fn build_fmu(
     scene: &Scene,
@@ -215,7 +219,10 @@ pub fn build_fmu(
         "modelDescription.xml".into(),
         model_description(scene).into_bytes(),
     )];
-    for f in documentation_files(scene)? {
+    for f in documentation_files(scene)?
+        .into_iter()
+        .chain(ls_ref_files(scene)?)
+    {
         entries.push((f.path, f.data));
     }
     entries.push((

@@ -405,3 +405,90 @@ fn bending_stiffness_is_a_small_perturbation_of_the_membrane() {
         last = change;
     }
 }
+
+/// Friction between sleeve and piston (`contact.mu`, level 2): over a slow ±30 mm cycle of the
+/// closed spring (0.5 Hz) the lobe still rolls (the sleeve is laid down on the piston and
+/// lifted off it without sticking: the force and the lobe radius stay those of the frictionless
+/// spring), friction dissipates energy (a hysteresis: the dissipated energy grows over the
+/// cycle), and the energy balance closes with the friction work in it: plate work = change of
+/// (gas + strain + kinetic) + dissipated.
+#[test]
+fn friction_on_the_piston_lets_the_lobe_roll_and_dissipates() {
+    let scene = Scene::from_toml(&axisym_text()).unwrap();
+    let run = |mu: f64| {
+        let mut sim = simulation(&scene, &[("contact.mu", Value::Real(mu))]).unwrap();
+        let iz = common::input_index(&scene, "top.z");
+        let iv = common::input_index(&scene, "top.vz");
+        let (amp, w) = (0.03, std::f64::consts::PI);
+        let stored = |sim: &flexfmu::solver::simulation::Simulation| {
+            ["energy.gas", "energy.strain", "energy.kinetic"]
+                .iter()
+                .map(|n| output(&scene, sim, n))
+                .sum::<f64>()
+        };
+        let e0 = stored(&sim);
+        let mut out = vec![];
+        for k in 0..2000 {
+            let t = k as f64 * 1e-3;
+            sim.set_input(iz, 0.25 - amp * (w * t).sin());
+            sim.set_input(iv, -amp * w * (w * t).cos());
+            sim.advance(t + 1e-3).unwrap();
+            let work = output(&scene, &sim, "energy.plate_work");
+            let lost = output(&scene, &sim, "energy.dissipated");
+            out.push((
+                output(&scene, &sim, "top.fz"),
+                output(&scene, &sim, "bellows.lobe_radius"),
+                lost,
+                work - (stored(&sim) - e0) - lost,
+                work,
+            ));
+        }
+        out
+    };
+    let free = run(0.0);
+    let rough = run(0.5);
+    let f_design = free[0].0;
+    let df = free
+        .iter()
+        .zip(&rough)
+        .map(|(a, b)| (a.0 - b.0).abs() / f_design)
+        .fold(0.0, f64::max);
+    let dr = free
+        .iter()
+        .zip(&rough)
+        .map(|(a, b)| (a.1 - b.1).abs())
+        .fold(0.0, f64::max);
+    let lost = rough.last().unwrap().2 - free.last().unwrap().2;
+    let scale = rough.iter().map(|x| x.4.abs()).fold(0.0, f64::max);
+    let numerical = rough.iter().map(|x| x.3.abs()).fold(0.0, f64::max);
+    println!(
+        "mu = 0.5 against frictionless over the cycle: force within {df:.2e} of the design force, lobe radius within {dr:.2e} m; friction dissipated {lost:.4e} J; energy balance: numerical part {numerical:.2e} J of plate work up to {scale:.3} J"
+    );
+    assert!(df < 2e-2, "{df}");
+    assert!(dr < 1e-3, "{dr}");
+    assert!(lost > 0.0, "{lost}");
+    assert!(numerical < 2e-3 * scale, "{numerical} of {scale}");
+}
+
+/// `contact.mu` is a parameter of level 2 only: a shell or table scene that sets it is refused
+/// with a message naming it (they do not model friction), and a negative value is refused.
+#[test]
+fn friction_is_refused_where_it_is_not_modelled() {
+    let shell = std::fs::read_to_string(common::scene_path("air_spring")).unwrap();
+    let mu = |text: &str, v: &str| text.replace("[contact]\n", &format!("[contact]\nmu = {v}\n"));
+    for (text, what) in [
+        (mu(&shell, "0.3"), "level 1"),
+        (mu(&axisym_text(), "-0.1"), "negative"),
+    ] {
+        assert!(text.contains("mu = "), "{what}: no [contact] table");
+        let err = Scene::from_toml(&text)
+            .err()
+            .map(|e| e.0)
+            .unwrap_or_default();
+        assert!(err.contains("contact.mu"), "{what}: {err}");
+    }
+    let ok = Scene::from_toml(&mu(&axisym_text(), "0.3")).unwrap();
+    assert!(ok.params.iter().any(|p| p.name == "contact.mu"));
+    let shell = Scene::from_toml(&shell).unwrap();
+    assert!(!shell.params.iter().any(|p| p.name == "contact.mu"));
+}

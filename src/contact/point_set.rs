@@ -331,6 +331,12 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
         book
     }
 
+    /// Takes the committed histories of `other`, a set of the same points and obstacles (a
+    /// second assembly of the same body, e.g. for a static condensation).
+    pub fn copy_histories(&mut self, other: &Self) {
+        self.hist.copy_from_slice(&other.hist);
+    }
+
     /// Writes the histories into a snapshot.
     pub fn save(&self, w: &mut StateWriter) {
         w.u64(self.hist.len() as u64);

@@ -8,8 +8,19 @@
 //!
 //! A point of the membrane stands for the reference area `w` [m²]; the law's `k_n` is then a
 //! pressure per penetration [N/m³] (`shared/reference/air-spring-physics.md` §1.7).
+//!
+//! Friction (the meridian plane, [`SlideHistory`]): the elasto-plastic bristle law of the belt
+//! ([`super::circle_friction`], Wriggers, Computational Contact Mechanics, 2nd ed., §5.2) in
+//! the obstacle's tangent `t = (−n_z, n_r)` (up the piston contour; outward on the plate). The
+//! slip over a step is measured relative to the obstacle, `Δs = t · (ρ − ρ_old)` with
+//! `ρ = (r, z − z₀)`, so a point that lies on the piston and stays there (a rolling lobe lays
+//! the sleeve down without sliding) makes no friction force however the plate moves: only
+//! sliding does. Trial stress `f* = k_t (z_old + Δs) + d_t ṡ` (`z` the bristle deflection,
+//! `ṡ = t · (ṙ, ż − ż₀)`), stick while `|f*| ≤ μ p`, else Coulomb sliding `f = μ p sign f*`,
+//! blended C¹ ([`super::circle_friction::stick_slip`]); force on the point `w (p n − f t)`.
+//! The hoop direction carries no slip by symmetry.
 
-use super::circle_friction::{ContactLaw, smoothed_penalty};
+use super::circle_friction::{ContactLaw, smoothed_penalty, stick_slip};
 use super::obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
 use crate::snapshot::{SnapshotError, StateReader, StateWriter};
 use nalgebra::{Matrix3, SVector, Vector2, Vector3};
@@ -43,12 +54,51 @@ pub enum AxisymObstacle {
         /// Outer radius of the plate [m].
         radius: f64,
     },
+    /// The bottom plate of a convoluted spring: the solid `z < z₀` for `r` up to `radius` [m]
+    /// (beyond it no contact), `z₀` the obstacle coordinate.
+    Floor {
+        /// Outer radius of the plate [m].
+        radius: f64,
+    },
+}
+
+/// Committed friction history of a (meridian point, obstacle) pair.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SlideHistory {
+    /// The point relative to the obstacle, `(r, z − z₀)`, at the last commit [m].
+    pub rel: [f64; 2],
+    /// Bristle deflection `f/k_t` [m].
+    pub z: f64,
+    /// Friction stress `f` [N/m²] (for the work over the next step).
+    pub f: f64,
+    /// Whether `rel` is recorded: before the first commit (the mounting and the design
+    /// state are solved frictionless) there is no friction.
+    pub valid: bool,
+}
+
+impl ContactHistory for SlideHistory {
+    fn save(&self, w: &mut StateWriter) {
+        for x in [self.rel[0], self.rel[1], self.z, self.f] {
+            w.f64(x);
+        }
+        w.bool(self.valid);
+    }
+
+    fn restore(r: &mut StateReader) -> Result<Self, SnapshotError> {
+        Ok(Self {
+            rel: [r.f64()?, r.f64()?],
+            z: r.f64()?,
+            f: r.f64()?,
+            valid: r.bool()?,
+        })
+    }
 }
 
 /// An active contact point: force on the point and its derivatives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisymContact {
-    /// Force on the point `w p n` [N] (`n` the outward normal of the obstacle).
+    /// Force on the point `w (p n − f t)` [N] (`n` the outward normal of the obstacle, `t` its
+    /// tangent, `f` the friction stress).
     pub force: Vector2<f64>,
     /// Penetration [m].
     pub penetration: f64,
@@ -62,6 +112,18 @@ pub struct AxisymContact {
     energy: f64,
     /// Damping power [W].
     power: f64,
+    /// Friction stress `f` [N/m²] along `−t` on the point.
+    pub friction: f64,
+    /// Slip over the step `Δs` [m].
+    pub slip_increment: f64,
+    /// Bristle deflection `f/k_t` [m].
+    z: f64,
+    /// Whether the point slides.
+    slipping: bool,
+    /// `(t_r, t_z, −t_z)`: `∂Δs/∂(r, z, z₀)` and the friction's direction in the force vector.
+    tf: [f64; 3],
+    /// `w ∂f/∂(r, z, z₀)` and `w ∂f/∂(ṙ, ż, ż₀)`.
+    df: [[f64; 3]; 2],
 }
 
 impl AxisymObstacle {
@@ -97,6 +159,12 @@ impl AxisymObstacle {
                 }
                 Some((z - z0, Vector2::new(0.0, -1.0), [0.0, 1.0, -1.0]))
             }
+            AxisymObstacle::Floor { radius } => {
+                if r > *radius {
+                    return None;
+                }
+                Some((z0 - z, Vector2::new(0.0, 1.0), [0.0, -1.0, 1.0]))
+            }
         }
     }
 }
@@ -113,16 +181,19 @@ impl ObstacleContact<2> for AxisymContact {
 
     fn iteration_block(&self, ks: f64, kd: f64, out: &mut [f64]) {
         // F = (w p n, −w p n_z) over x = (r, z, z₀); ∂p/∂x = p_δ ∂δ/∂x (+ p_δ̇ for rates)
+        // friction: −w f tf, ∂(w f)/∂x in `df`
         let nf = [self.normal.x, self.normal.y, -self.normal.y];
         for j in 0..3 {
+            let dfj = ks * self.df[0][j] + kd * self.df[1][j];
             for i in 0..3 {
-                out[i + 3 * j] = nf[i] * self.grad[j] * (ks * self.dp[0] + kd * self.dp[1]);
+                out[i + 3 * j] =
+                    nf[i] * self.grad[j] * (ks * self.dp[0] + kd * self.dp[1]) - self.tf[i] * dfj;
             }
         }
     }
 
     fn slipping(&self) -> bool {
-        false
+        self.slipping
     }
 
     fn normal_energy(&self) -> f64 {
@@ -136,7 +207,7 @@ impl ObstacleContact<2> for AxisymContact {
 
 impl Obstacle<2> for AxisymObstacle {
     const N_COORDS: usize = 1;
-    type History = NoHistory;
+    type History = SlideHistory;
     type Contact = AxisymContact;
 
     /// The piston: a segment with both ends outside the largest contour radius cannot touch
@@ -154,7 +225,7 @@ impl Obstacle<2> for AxisymObstacle {
                 let r = a.x.min(b.x);
                 r <= r_max || r.is_nan()
             }
-            AxisymObstacle::Plate { .. } => true,
+            AxisymObstacle::Plate { .. } | AxisymObstacle::Floor { .. } => true,
         }
     }
 
@@ -165,7 +236,7 @@ impl Obstacle<2> for AxisymObstacle {
         p: &PointMotion<2>,
         x: &[f64],
         xd: &[f64],
-        _hist: &NoHistory,
+        hist: &SlideHistory,
     ) -> Option<AxisymContact> {
         let (delta, n, grad) = self.gap(p.r.x, p.r.y, x[0])?;
         if delta <= 0.0 {
@@ -177,26 +248,67 @@ impl Obstacle<2> for AxisymObstacle {
         if pressure <= 0.0 {
             return None;
         }
+        let dp = [w * (dpe + law.d_n * dramp * rate), w * law.d_n * ramp];
+        let t = Vector2::new(-n.y, n.x);
+        let tf = [t.x, t.y, -t.y];
+        let (mut friction, mut ds, mut z, mut slipping, mut df) =
+            (0.0, 0.0, 0.0, false, [[0.0; 3]; 2]);
+        if law.mu > 0.0 && hist.valid {
+            ds = t.x * (p.r.x - hist.rel[0]) + t.y * (p.r.y - x[0] - hist.rel[1]);
+            let sdot = t.x * p.v.x + t.y * (p.v.y - xd[0]);
+            let f_trial = law.k_t * (hist.z + ds) + law.d_t * sdot;
+            let cap = law.mu * pressure;
+            let xr = f_trial / cap;
+            let (ph, dph) = stick_slip(xr.abs(), law.blend);
+            let ph = ph.copysign(xr);
+            friction = cap * ph;
+            slipping = f_trial.abs() >= cap;
+            z = if law.k_t > 0.0 {
+                friction / law.k_t
+            } else {
+                0.0
+            };
+            // w ∂f = φ' w ∂f* + (φ − x φ') μ w ∂p, ∂f*/∂x = k_t tf, ∂f*/∂ẋ = d_t tf
+            let rest = ph - xr * dph;
+            for j in 0..3 {
+                df[0][j] = dph * w * law.k_t * tf[j] + rest * law.mu * dp[0] * grad[j];
+                df[1][j] = dph * w * law.d_t * tf[j] + rest * law.mu * dp[1] * grad[j];
+            }
+        }
         Some(AxisymContact {
-            force: w * pressure * n,
+            force: w * pressure * n - (w * friction) * t,
             penetration: delta,
             grad,
             normal: n,
-            dp: [w * (dpe + law.d_n * dramp * rate), w * law.d_n * ramp],
+            dp,
             energy: w * ue,
             power: w * law.d_n * ramp * rate * rate,
+            friction,
+            slip_increment: ds,
+            z,
+            slipping,
+            tf,
+            df,
         })
     }
 
-    fn committed(&self, _p: &PointMotion<2>, _x: &[f64], _c: Option<&AxisymContact>) -> NoHistory {
-        NoHistory
+    fn committed(&self, p: &PointMotion<2>, x: &[f64], c: Option<&AxisymContact>) -> SlideHistory {
+        SlideHistory {
+            rel: [p.r.x, p.r.y - x[0]],
+            z: c.map_or(0.0, |c| c.z),
+            f: c.map_or(0.0, |c| c.friction),
+            valid: true,
+        }
     }
 
-    fn friction_work(_w: f64, _h: &NoHistory, _c: &AxisymContact) -> f64 {
-        0.0
+    /// Trapezoidal in the slip: `w (f_old + f)/2 Δs` (the bristle's elastic part included,
+    /// of the order of `μ p`²/`k_t` per area).
+    fn friction_work(w: f64, h: &SlideHistory, c: &AxisymContact) -> f64 {
+        w * 0.5 * (h.f + c.friction) * c.slip_increment
     }
 
-    fn shift_history(_h: &mut NoHistory, _l: usize, _by: f64) {}
+    /// The history is relative to the obstacle already: nothing to shift.
+    fn shift_history(_h: &mut SlideHistory, _l: usize, _by: f64) {}
 }
 
 /// An active contact point in space (the shell level): force on the point and its
@@ -373,9 +485,11 @@ mod tests {
             contour: vec![[0.11, 0.0], [0.1, 0.1], [0.1, 0.15]],
         };
         let plate = AxisymObstacle::Plate { radius: 0.2 };
+        let floor = AxisymObstacle::Floor { radius: 0.2 };
         let cases = [
             (&piston, [0.1045, 0.05, 0.001], [0.1, -0.2, 0.05]),
             (&plate, [0.13, 0.25002, 0.25], [0.1, 0.3, -0.2]),
+            (&floor, [0.13, -0.00002, 0.0], [0.1, -0.3, 0.2]),
         ];
         for (ob, x, v) in cases {
             let eval = |x: [f64; 3], v: [f64; 3]| {
@@ -384,7 +498,7 @@ mod tests {
                     v: Vector2::new(v[0], v[1]),
                 };
                 let c = ob
-                    .evaluate(&law(), 0.01, &p, &[x[2]], &[v[2]], &NoHistory)
+                    .evaluate(&law(), 0.01, &p, &[x[2]], &[v[2]], &SlideHistory::default())
                     .expect("in contact");
                 [c.force.x, c.force.y, c.generalized_force(0)]
             };
@@ -393,7 +507,7 @@ mod tests {
                 v: Vector2::new(v[0], v[1]),
             };
             let c = ob
-                .evaluate(&law(), 0.01, &p, &[x[2]], &[v[2]], &NoHistory)
+                .evaluate(&law(), 0.01, &p, &[x[2]], &[v[2]], &SlideHistory::default())
                 .unwrap();
             let mut ks = [0.0; 9];
             let mut kd = [0.0; 9];
@@ -437,27 +551,74 @@ mod tests {
             v: Vector2::zeros(),
         };
         let c = piston
-            .evaluate(&law(), 1.0, &at(0.0999, 0.1), &[0.0], &[0.0], &NoHistory)
+            .evaluate(
+                &law(),
+                1.0,
+                &at(0.0999, 0.1),
+                &[0.0],
+                &[0.0],
+                &SlideHistory::default(),
+            )
             .unwrap();
         assert!(c.force.x > 0.0 && c.force.y == 0.0);
         assert!(
             piston
-                .evaluate(&law(), 1.0, &at(0.0999, 0.16), &[0.0], &[0.0], &NoHistory)
+                .evaluate(
+                    &law(),
+                    1.0,
+                    &at(0.0999, 0.16),
+                    &[0.0],
+                    &[0.0],
+                    &SlideHistory::default()
+                )
                 .is_none()
         );
         assert!(
             piston
-                .evaluate(&law(), 1.0, &at(0.1001, 0.1), &[0.0], &[0.0], &NoHistory)
+                .evaluate(
+                    &law(),
+                    1.0,
+                    &at(0.1001, 0.1),
+                    &[0.0],
+                    &[0.0],
+                    &SlideHistory::default()
+                )
                 .is_none()
         );
+        let floor = AxisymObstacle::Floor { radius: 0.15 };
+        let c = floor
+            .evaluate(&law(), 1.0, &at(0.1, -0.0001), &[0.0], &[0.0], &NoHistory)
+            .unwrap();
+        assert!(c.force.y > 0.0 && c.force.x == 0.0 && c.generalized_force(0) < 0.0);
+        for (r, z) in [(0.1, 0.0001), (0.16, -0.0001)] {
+            assert!(
+                floor
+                    .evaluate(&law(), 1.0, &at(r, z), &[0.0], &[0.0], &NoHistory)
+                    .is_none()
+            );
+        }
         let plate = AxisymObstacle::Plate { radius: 0.15 };
         let c = plate
-            .evaluate(&law(), 1.0, &at(0.1, 0.2501), &[0.25], &[0.0], &NoHistory)
+            .evaluate(
+                &law(),
+                1.0,
+                &at(0.1, 0.2501),
+                &[0.25],
+                &[0.0],
+                &SlideHistory::default(),
+            )
             .unwrap();
         assert!(c.force.y < 0.0 && c.generalized_force(0) > 0.0);
         assert!(
             plate
-                .evaluate(&law(), 1.0, &at(0.16, 0.2501), &[0.25], &[0.0], &NoHistory)
+                .evaluate(
+                    &law(),
+                    1.0,
+                    &at(0.16, 0.2501),
+                    &[0.25],
+                    &[0.0],
+                    &SlideHistory::default()
+                )
                 .is_none()
         );
     }
@@ -488,8 +649,16 @@ mod tests {
             r: Vector2::new(r, x[2]),
             v: Vector2::new(v[0] * phi.cos() + v[1] * phi.sin(), v[2]),
         };
-        let c2 = Obstacle::<2>::evaluate(&piston, &law(), 0.01, &p2, &[x[3]], &[v[3]], &NoHistory)
-            .unwrap();
+        let c2 = Obstacle::<2>::evaluate(
+            &piston,
+            &law(),
+            0.01,
+            &p2,
+            &[x[3]],
+            &[v[3]],
+            &SlideHistory::default(),
+        )
+        .unwrap();
         assert!((f[0] - c2.force.x * phi.cos()).abs() < 1e-9 * c2.force.norm());
         assert!((f[1] - c2.force.x * phi.sin()).abs() < 1e-9 * c2.force.norm());
         assert!((f[2] - c2.force.y).abs() < 1e-9 * c2.force.norm());
@@ -525,5 +694,174 @@ mod tests {
                 );
             }
         }
+    }
+
+    fn friction_law() -> ContactLaw {
+        ContactLaw {
+            k_t: 1e9,
+            d_t: 2e3,
+            mu: 0.4,
+            blend: 0.1,
+            ..law()
+        }
+    }
+
+    /// With friction: the iteration block against finite differences of the force in
+    /// position, obstacle coordinate and rates, in stick, in the stick–slip blend and in
+    /// sliding, on the tapered piston and on the plate.
+    #[test]
+    fn friction_block_matches_finite_differences() {
+        let piston = AxisymObstacle::Piston {
+            contour: vec![[0.11, 0.0], [0.1, 0.1], [0.1, 0.15]],
+        };
+        let plate = AxisymObstacle::Plate { radius: 0.2 };
+        let law = friction_law();
+        // the trial stress f* at `target` × μ p: stick, the blend zone, sliding either way
+        for (ob, x, v, target, expect) in [
+            (
+                &piston,
+                [0.1045, 0.05, 0.001],
+                [0.1, -0.2, 0.05],
+                0.3,
+                "stick",
+            ),
+            (
+                &piston,
+                [0.1045, 0.05, 0.001],
+                [0.1, -0.2, 0.05],
+                0.97,
+                "blend",
+            ),
+            (
+                &piston,
+                [0.1045, 0.05, 0.001],
+                [0.1, -0.2, 0.05],
+                -3.0,
+                "slide",
+            ),
+            (&plate, [0.13, 0.251, 0.25], [0.1, 0.3, -0.2], -0.5, "stick"),
+            (&plate, [0.13, 0.251, 0.25], [0.1, 0.3, -0.2], 2.0, "slide"),
+        ] {
+            // the committed point: shifted along the tangent from x
+            let at = |x: [f64; 3], v: [f64; 3]| PointMotion {
+                r: Vector2::new(x[0], x[1]),
+                v: Vector2::new(v[0], v[1]),
+            };
+            let c0 = ob
+                .evaluate(
+                    &law,
+                    0.01,
+                    &at(x, v),
+                    &[x[2]],
+                    &[v[2]],
+                    &SlideHistory::default(),
+                )
+                .unwrap();
+            let t = [-c0.normal.y, c0.normal.x];
+            let p0 = c0.force.dot(&c0.normal) / 0.01;
+            let sdot = t[0] * v[0] + t[1] * (v[1] - v[2]);
+            let rel_shift = (target * law.mu * p0 - law.d_t * sdot) / law.k_t;
+            let hist = SlideHistory {
+                rel: [x[0] - rel_shift * t[0], x[1] - x[2] - rel_shift * t[1]],
+                z: 0.0,
+                f: 0.0,
+                valid: true,
+            };
+            let eval = |x: [f64; 3], v: [f64; 3]| {
+                let c = ob
+                    .evaluate(&law, 0.01, &at(x, v), &[x[2]], &[v[2]], &hist)
+                    .expect("in contact");
+                [c.force.x, c.force.y, c.generalized_force(0)]
+            };
+            let c = ob
+                .evaluate(&law, 0.01, &at(x, v), &[x[2]], &[v[2]], &hist)
+                .unwrap();
+            let ratio = c.friction.abs() / (law.mu * c.force.dot(&c.normal) / 0.01);
+            match expect {
+                "stick" => assert!(!c.slipping && ratio < 0.9, "{ratio}"),
+                "blend" => assert!(ratio > 0.9 && ratio < 1.0, "{ratio}"),
+                _ => assert!(c.slipping && (ratio - 1.0).abs() < 1e-12, "{ratio}"),
+            }
+            let mut ks = [0.0; 9];
+            let mut kd = [0.0; 9];
+            c.iteration_block(1.0, 0.0, &mut ks);
+            c.iteration_block(0.0, 1.0, &mut kd);
+            // rounding of forces of order w k_n δ over the step h: relative to the block's size
+            let scale_s = ks.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let scale_d = kd.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let h = 1e-8;
+            for j in 0..3 {
+                let (mut xp, mut xm) = (x, x);
+                xp[j] += h;
+                xm[j] -= h;
+                let (fp, fm) = (eval(xp, v), eval(xm, v));
+                let (mut vp, mut vm) = (v, v);
+                vp[j] += 1e-4;
+                vm[j] -= 1e-4;
+                let (gp, gm) = (eval(x, vp), eval(x, vm));
+                for i in 0..3 {
+                    let fd = (fp[i] - fm[i]) / (2.0 * h);
+                    assert!(
+                        (fd - ks[i + 3 * j]).abs() <= 1e-6 * scale_s,
+                        "{expect} {i}{j}: {fd} vs {}",
+                        ks[i + 3 * j]
+                    );
+                    let fdv = (gp[i] - gm[i]) / 2e-4;
+                    assert!(
+                        (fdv - kd[i + 3 * j]).abs() <= 1e-6 * scale_d,
+                        "{expect} v {i}{j}: {fdv} vs {}",
+                        kd[i + 3 * j]
+                    );
+                }
+            }
+        }
+    }
+
+    /// A point that stays where it lies on the piston while the piston moves (rolling: no
+    /// sliding) carries no friction; one that slides down the piston is pushed up by `μ p`
+    /// per area, and the friction work of the step is `w f Δs` > 0.
+    #[test]
+    fn friction_acts_against_sliding_only() {
+        let piston = AxisymObstacle::Piston {
+            contour: vec![[0.1, 0.0], [0.1, 0.15]],
+        };
+        let law = ContactLaw {
+            d_t: 0.0,
+            ..friction_law()
+        };
+        let p = PointMotion {
+            r: Vector2::new(0.0995, 0.08),
+            v: Vector2::new(0.0, 0.0),
+        };
+        // committed at z₀ = 0; now the piston and the point have both moved up 5 mm
+        let h = Obstacle::<2>::committed(&piston, &p, &[0.0], None);
+        let moved = PointMotion {
+            r: Vector2::new(0.0995, 0.085),
+            v: Vector2::new(0.0, 0.0),
+        };
+        let c = piston
+            .evaluate(&law, 1e-4, &moved, &[0.005], &[0.0], &h)
+            .unwrap();
+        assert_eq!(c.friction, 0.0);
+        assert_eq!(c.force.y, 0.0);
+        // the point slides 5 mm down a fixed piston
+        let slid = PointMotion {
+            r: Vector2::new(0.0995, 0.075),
+            v: Vector2::new(0.0, -0.1),
+        };
+        let c = piston
+            .evaluate(&law, 1e-4, &slid, &[0.0], &[0.0], &h)
+            .unwrap();
+        let p_n = c.force.x / 1e-4;
+        assert!(c.slipping);
+        assert!(
+            (c.force.y / 1e-4 - law.mu * p_n).abs() < 1e-9 * p_n,
+            "{:?}",
+            c.force
+        );
+        assert!(
+            <AxisymObstacle as Obstacle<2>>::friction_work(1e-4, &h, &c) > 0.0,
+            "sliding along −t (Δs < 0) against f < 0: the work w f Δs is dissipated"
+        );
     }
 }

@@ -223,7 +223,12 @@ pub fn index_html(
          <li><code>documentation/licenses/license.txt</code>: licences of flexfmu and of \
          every crate linked into the library.</li>\n\
          <li><code>terminalsAndIcons/terminalsAndIcons.xml</code> and \
-         <code>model.png</code>: the ports and the icon.</li>\n</ul>\n</body>\n</html>\n",
+         <code>model.png</code>: the ports and the icon.</li>\n\
+         <li><code>extra/org.fmi-standard.fmi-ls-ref/</code>: reference files after the FMI \
+         layered standard FMI-LS-REF (the scene, parameter sets, a smoke test with its \
+         reference result): see <a href=\"fmi-ls-ref.html\">fmi-ls-ref.html</a> and \
+         <a href=\"../extra/org.fmi-standard.fmi-ls-ref/fmi-ls-manifest.xml\">the \
+         manifest</a>.</li>\n</ul>\n</body>\n</html>\n",
     );
     h
 }

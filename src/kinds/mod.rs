@@ -20,7 +20,10 @@ macro_rules! body_kind {
             name: $name:literal,
             summary: $summary:literal,
             validation: $validation:expr,
-            legacy: |$t:ident| $legacy:expr $(,)?
+            legacy: |$t:ident| $legacy:expr
+            $(, presets: |$ps:ident| $presets:expr)?
+            $(, smoke_test: |$sm:ident| $smoke:expr)?
+            $(, initial_state: $istate:expr)? $(,)?
         }
     ) => {
         body_kind! {
@@ -31,7 +34,10 @@ macro_rules! body_kind {
                 name: $name,
                 summary: $summary,
                 validation: $validation,
-                legacy: |$t| $legacy,
+                legacy: |$t| $legacy
+                $(, presets: |$ps| $presets)?
+                $(, smoke_test: |$sm| $smoke)?
+                $(, initial_state: $istate)?
             }
         }
     };
@@ -43,7 +49,10 @@ macro_rules! body_kind {
             name: $name:literal,
             summary: $summary:literal,
             validation: $validation:expr,
-            legacy: |$t:ident| $legacy:expr $(,)?
+            legacy: |$t:ident| $legacy:expr
+            $(, presets: |$ps:ident| $presets:expr)?
+            $(, smoke_test: |$sm:ident| $smoke:expr)?
+            $(, initial_state: $istate:expr)? $(,)?
         }
     ) => {
         $(#[$doc])*
@@ -104,6 +113,26 @@ macro_rules! body_kind {
             fn as_any(&self) -> &dyn std::any::Any {
                 self
             }
+
+            $(
+                fn presets(&self) -> Vec<$crate::ls_ref::Preset> {
+                    let $ps = self;
+                    $presets
+                }
+            )?
+
+            $(
+                fn smoke_test(&self) -> $crate::ls_ref::SmokeTest {
+                    let $sm = self;
+                    $smoke
+                }
+            )?
+
+            $(
+                fn initial_state(&self) -> Option<&'static str> {
+                    $istate
+                }
+            )?
         }
     };
 }
@@ -191,6 +220,24 @@ pub trait KindScene: Debug + Send + Sync + Any {
 
     /// For tests and tools that need the kind's own tables.
     fn as_any(&self) -> &dyn Any;
+
+    /// Named parameter sets besides the defaults (FMI-LS-REF `.ssv` files in every FMU of the
+    /// kind, [`crate::ls_ref`]): none unless the kind has natural presets.
+    fn presets(&self) -> Vec<crate::ls_ref::Preset> {
+        Vec::new()
+    }
+
+    /// The smoke-test experiment shipped in every FMU ([`crate::ls_ref`]): unless the kind
+    /// gives stimuli, its inputs stay at their start values.
+    fn smoke_test(&self) -> crate::ls_ref::SmokeTest {
+        crate::ls_ref::SmokeTest::default()
+    }
+
+    /// Whether the FMU ships its serialized state after initialization (with the default
+    /// parameters), and what that state is; `None` (the default): it does not.
+    fn initial_state(&self) -> Option<&'static str> {
+        None
+    }
 }
 
 /// The inputs and outputs of a scene as a kind declares them: the variables and, for each

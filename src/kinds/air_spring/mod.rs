@@ -47,6 +47,8 @@ body_kind! {
         summary: "air spring: cord-rubber bellows enclosing gas, rolling on a piston",
         validation: include_str!("validation.txt"),
         legacy: |_t| false,
+        presets: |s| scene::presets(s),
+        smoke_test: |s| scene::smoke_test(s),
     }
 }
 
@@ -167,12 +169,18 @@ pub struct AirSpringScene {
     /// Fidelity level.
     #[serde(default)]
     pub model: ModelSection,
-    /// The piston.
-    #[serde(default)]
-    pub piston: PistonSection,
+    /// The piston (rolling lobe only; a convoluted spring has none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub piston: Option<PistonSection>,
     /// The top plate.
     #[serde(default)]
     pub top_plate: TopPlateSection,
+    /// The bottom plate of a convoluted spring (`bellows.type = "convoluted"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bottom_plate: Option<BottomPlateSection>,
+    /// The girdle ring of a double-convoluted spring (`bellows.n_convolutions = 2`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub girdle: Option<GirdleSection>,
     /// The bellows (sleeve and wall).
     #[serde(default)]
     pub bellows: BellowsSection,
@@ -203,6 +211,33 @@ pub struct AirSpringScene {
     /// The effective-area table of level 3.
     #[serde(default)]
     pub table: Option<TableSection>,
+}
+
+impl AirSpringScene {
+    /// The piston table (its defaults where the scene has none).
+    pub fn piston(&self) -> PistonSection {
+        self.piston.clone().unwrap_or_default()
+    }
+}
+
+/// `[bottom_plate]` of a convoluted spring: a flat plate at `z = 0` (the plate-to-plate height
+/// `top.z` is measured from it) with the sleeve's lower bead ring.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BottomPlateSection {
+    /// `bottom_plate.bead_radius` [m]: where the sleeve is clamped to the bottom plate.
+    pub bead_radius: f64,
+}
+
+/// `[girdle]` of a double-convoluted spring: a rigid ring moulded into the sleeve at the middle
+/// of its length. It fixes the radius of that material circle (the ring's hoop stiffness is far
+/// above the membrane's) and is free along the axis (no guide: it floats between the two
+/// convolutions, so the axial force is the same in both); its mass is neglected.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GirdleSection {
+    /// `girdle.radius` [m]: inner radius of the ring (the radius of the sleeve there).
+    pub radius: f64,
 }
 
 /// `[table]`: the characteristic of the bellows at a reference gauge pressure for level 3
@@ -296,6 +331,15 @@ defaults!(TopPlateSection {
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BellowsSection {
+    /// `bellows.type`: `"rolling_lobe"` (default: sleeve between the top plate and a piston it
+    /// rolls on) or `"convoluted"` (sleeve between a top and a bottom bead plate, one or two
+    /// convolutions). Not a parameter.
+    #[serde(rename = "type", default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
+    /// `bellows.n_convolutions` of a convoluted sleeve: 1 or 2 (2, the default: a double
+    /// bellows with a girdle ring). Not a parameter.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub n_convolutions: Option<i64>,
     /// `bellows.sleeve_radius` [m] of the stress-free cylinder.
     #[serde(default = "BellowsSection::sleeve_radius")]
     pub sleeve_radius: f64,
@@ -332,6 +376,8 @@ pub struct BellowsSection {
     pub bending_stiffness: Option<f64>,
 }
 defaults!(BellowsSection {
+    kind: Option<String> = None,
+    n_convolutions: Option<i64> = None,
     sleeve_radius: f64 = 0.125,
     sleeve_length: f64 = 0.300,
     cord_angle: f64 = 54.0,
@@ -449,9 +495,14 @@ pub struct ContactSection {
     /// `contact.stiffness` [N/m3]: penalty pressure per penetration.
     #[serde(default = "ContactSection::stiffness")]
     pub stiffness: f64,
+    /// `contact.mu` [1]: Coulomb friction between the sleeve and the piston and top plate
+    /// (level 2; default 0, frictionless).
+    #[serde(default = "ContactSection::mu")]
+    pub mu: f64,
 }
 defaults!(ContactSection {
-    stiffness: f64 = 1.0e12
+    stiffness: f64 = 1.0e12,
+    mu: f64 = 0.0
 });
 
 /// `[mesh]`.

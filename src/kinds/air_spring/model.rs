@@ -27,9 +27,9 @@
 //! coordinates, solved on a second assembly where they are free.
 
 use super::relax::{Pressure, Relaxation};
-use super::scene::{Input, Output, io, names::*, piston_contour};
+use super::scene::{Input, Output, io, is_convoluted, names::*, piston_contour};
 use super::table::{gas_error, gas_output, gas_params};
-use super::{AirSpringScene, PlateInput};
+use super::{AirSpringScene, PlateInput, scene};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::ContactPointSet;
 use crate::contact::circle_friction::ContactLaw;
@@ -41,7 +41,7 @@ use crate::elements::{Element, ElementState};
 use crate::gas::Gas;
 use crate::integrators::DynState;
 use crate::linalg::{CscPattern, LinearSolver, SolverKind, rank_one_len};
-use crate::meshers::bellows::rolling_lobe_start;
+use crate::meshers::bellows::{convoluted_start, rolling_lobe_start};
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
 use crate::scene::params::ParamValues;
 use crate::snapshot::{StateReader, StateWriter};
@@ -119,6 +119,53 @@ impl Mech {
     }
 }
 
+/// Where the sleeve is held: its lower end, the girdle ring, the obstacles (the lower one, then
+/// the top plate) and the start meridian (`n + 1` points from the top bead).
+struct Mounting {
+    clamp: [f64; 2],
+    girdle: Option<(usize, f64)>,
+    obstacles: Vec<AxisymObstacle>,
+    start: Vec<[f64; 2]>,
+}
+
+impl Mounting {
+    /// A convoluted sleeve: from the top bead ring down to the bottom bead ring
+    /// (`bottom_plate.bead_radius` at `z = 0`), with two convolutions through the girdle ring
+    /// (`girdle.radius`) at the middle node; both plates are flat obstacles.
+    fn convoluted(scene: &AirSpringScene, p: &ParamValues) -> Result<Self, String> {
+        let rb = p.real(TOP_PLATE_BEAD_RADIUS);
+        let rbb = p.real(BOTTOM_PLATE_BEAD_RADIUS);
+        let length = p.real(BELLOWS_SLEEVE_LENGTH);
+        let hd = p.real(SPRING_DESIGN_HEIGHT);
+        let n_el = p.integer(MESH_N_MERIDIONAL).max(2) as usize;
+        let rg = (scene::n_convolutions(scene) == 2).then(|| p.real(GIRDLE_RADIUS));
+        if let Some(rg) = rg
+            && !n_el.is_multiple_of(2)
+        {
+            return Err(format!(
+                "{MESH_N_MERIDIONAL} = {n_el}: a double-convoluted sleeve needs an even number of elements (the girdle ring {GIRDLE_RADIUS} = {rg} m holds the middle node)"
+            ));
+        }
+        // the sleeve's meridian at a mean stretch of 1 (the convolutions' hoop stretch and
+        // the cord angle set the meridional one; the design solve finds it)
+        let start = convoluted_start([rb, hd], [rbb, 0.0], rg, length, n_el).map_err(|e| {
+            format!(
+                "{e} ({BELLOWS_SLEEVE_LENGTH}, {TOP_PLATE_BEAD_RADIUS}, {BOTTOM_PLATE_BEAD_RADIUS}, {SPRING_DESIGN_HEIGHT})"
+            )
+        })?;
+        let big = 10.0 * rb.max(rbb);
+        Ok(Self {
+            clamp: [rbb, 0.0],
+            girdle: rg.map(|rg| (n_el / 2, rg)),
+            obstacles: vec![
+                AxisymObstacle::Floor { radius: big },
+                AxisymObstacle::Plate { radius: big },
+            ],
+            start,
+        })
+    }
+}
+
 /// Work buffers of an evaluation (full coordinates).
 #[derive(Clone, Debug, Default)]
 struct Work {
@@ -161,7 +208,14 @@ pub struct AirSpring {
     /// The same with the bead's z and the plate free: the condensation, computed on demand.
     cond: RefCell<Condensation>,
     bead_radius: f64,
+    /// The lower end of the sleeve: the clamp at the piston's top edge, or the bottom bead of
+    /// a convoluted sleeve (`[r, 0]`).
     clamp: [f64; 2],
+    /// The girdle ring of a double-convoluted sleeve: its node and radius [m] (the node's
+    /// radius is prescribed, its height free).
+    girdle: Option<(usize, f64)>,
+    /// A convoluted sleeve (bottom plate instead of a piston).
+    convoluted: bool,
     design_height: f64,
     ambient: f64,
     gas: Gas,
@@ -230,13 +284,16 @@ fn volume_gradient(n_el: usize, q: &[f64], grad: &mut [f64]) -> f64 {
 impl AirSpring {
     /// Builds the model and solves the design state. Errors name the parameter.
     pub fn build(scene: &AirSpringScene, p: &ParamValues) -> Result<Self, String> {
-        let contour = piston_contour(scene, p);
-        let clamp = *contour.last().expect("two points");
+        let convoluted = is_convoluted(scene);
         let rb = p.real(TOP_PLATE_BEAD_RADIUS);
-        let r0 = p.real(BELLOWS_SLEEVE_RADIUS);
         let length = p.real(BELLOWS_SLEEVE_LENGTH);
         let hd = p.real(SPRING_DESIGN_HEIGHT);
         let n_el = p.integer(MESH_N_MERIDIONAL).max(2) as usize;
+        if convoluted {
+            return Self::build_on(scene, p, Mounting::convoluted(scene, p)?);
+        }
+        let contour = piston_contour(scene, p);
+        let clamp = *contour.last().expect("two points");
         if rb <= clamp[0] {
             return Err(format!(
                 "{TOP_PLATE_BEAD_RADIUS} = {rb} m must exceed the piston radius at its top ({} m): a rolling lobe forms between them",
@@ -249,6 +306,47 @@ impl AirSpring {
                 clamp[1]
             ));
         }
+        // start shape: a lobe of outer radius a fifth of the bead–piston gap beyond the bead
+        let start = rolling_lobe_start(
+            &contour,
+            rb,
+            hd,
+            rb + 0.2 * (rb - clamp[0]),
+            1.15 * length,
+            n_el,
+        )
+        .map_err(|e| {
+            format!(
+                "{e} ({BELLOWS_SLEEVE_LENGTH}, {TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {SPRING_DESIGN_HEIGHT}, {PISTON_HEIGHT})"
+            )
+        })?;
+        let mounting = Mounting {
+            clamp,
+            girdle: None,
+            obstacles: vec![
+                AxisymObstacle::Piston {
+                    contour: contour.clone(),
+                },
+                AxisymObstacle::Plate { radius: 10.0 * rb },
+            ],
+            start,
+        };
+        Self::build_on(scene, p, mounting)
+    }
+
+    /// Builds the model on a mounting and solves the design state.
+    fn build_on(scene: &AirSpringScene, p: &ParamValues, m: Mounting) -> Result<Self, String> {
+        let Mounting {
+            clamp,
+            girdle,
+            obstacles,
+            start,
+        } = m;
+        let rb = p.real(TOP_PLATE_BEAD_RADIUS);
+        let r0 = p.real(BELLOWS_SLEEVE_RADIUS);
+        let length = p.real(BELLOWS_SLEEVE_LENGTH);
+        let hd = p.real(SPRING_DESIGN_HEIGHT);
+        let n_el = start.len() - 1;
         let wall = CordRubberWall {
             cord_stiffness: p.real(BELLOWS_CORD_STIFFNESS),
             n_plies: p.integer(BELLOWS_N_PLIES).max(1) as usize,
@@ -264,25 +362,26 @@ impl AirSpring {
         );
         let n_nodes = n_el + 1;
         let n_full = 2 * n_nodes + 2;
+        // friction (`contact.mu`): a bristle as stiff per slip as the penalty per penetration
+        // (stick to within μ p / k_n, a fraction of a micrometre at 5 bar), the stick–slip
+        // switch blended over ±10 % of μ p so that Newton's method does not cycle
+        let k_n = p.real(CONTACT_STIFFNESS);
         let law = ContactLaw {
-            k_n: p.real(CONTACT_STIFFNESS),
+            k_n,
             d_n: 0.0,
-            k_t: 0.0,
+            k_t: k_n,
             d_t: 0.0,
-            mu: 0.0,
+            mu: p.real(CONTACT_MU),
             // a C¹ penalty over a penetration of a hundredth of a millimetre
             smoothing: 1e-5,
-            blend: 0.0,
+            blend: 0.1,
         };
-        let obstacles = vec![
-            AxisymObstacle::Piston {
-                contour: contour.clone(),
-            },
-            AxisymObstacle::Plate { radius: 10.0 * rb },
-        ];
         let mut constrained = vec![false; n_full];
         for i in [0, 1, 2 * n_el, 2 * n_el + 1, 2 * n_nodes, 2 * n_nodes + 1] {
             constrained[i] = true;
+        }
+        if let Some((k, _)) = girdle {
+            constrained[2 * k] = true;
         }
         let d = p.real(BELLOWS_BENDING_STIFFNESS);
         let ell = length / n_el as f64;
@@ -300,20 +399,6 @@ impl AirSpring {
         constrained[2 * n_nodes + 1] = false;
         let ext = Mech::new(n_el, element, hinge, &constrained, law, obstacles, length);
         let n_ext = ext.asm.dofs.n_free();
-        // start shape: a lobe of outer radius a fifth of the bead–piston gap beyond the bead
-        let start = rolling_lobe_start(
-            &contour,
-            rb,
-            hd,
-            rb + 0.2 * (rb - clamp[0]),
-            1.15 * length,
-            n_el,
-        )
-        .map_err(|e| {
-            format!(
-                "{e} ({BELLOWS_SLEEVE_LENGTH}, {TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {SPRING_DESIGN_HEIGHT}, {PISTON_HEIGHT})"
-            )
-        })?;
         let mut q = vec![0.0; n_full];
         for (k, pt) in start.iter().enumerate() {
             q[2 * k] = pt[0];
@@ -344,6 +429,8 @@ impl AirSpring {
             }),
             bead_radius: rb,
             clamp,
+            girdle,
+            convoluted: is_convoluted(scene),
             design_height: hd,
             ambient: gp.ambient_pressure,
             // charged after the design solve
@@ -582,6 +669,9 @@ impl AirSpring {
         full[1] = z;
         full[2 * self.n_el] = self.clamp[0];
         full[2 * self.n_el + 1] = self.clamp[1];
+        if let Some((k, rg)) = self.girdle {
+            full[2 * k] = rg;
+        }
         full[2 * n_nodes] = 0.0;
         full[2 * n_nodes + 1] = z;
     }
@@ -607,6 +697,9 @@ impl AirSpring {
         for x in [&mut w.v, &mut w.a] {
             for i in [0, 2 * self.n_el, 2 * self.n_el + 1, 2 * n_nodes] {
                 x[i] = 0.0;
+            }
+            if let Some((k, _)) = self.girdle {
+                x[2 * k] = 0.0;
             }
         }
         w.v[1] = vz;
@@ -747,7 +840,8 @@ impl AirSpring {
             *vals = vec![0.0; rank_one_len(&ext.asm.pattern)];
         }
         let solver = solver.as_mut()?;
-        // committed state, at rest
+        // committed state, at rest, with the committed friction (stuck points stay stuck)
+        ext.contact.copy_histories(&self.main.contact);
         work.q.copy_from_slice(&self.q);
         work.v.fill(0.0);
         work.a.fill(0.0);
@@ -1056,7 +1150,21 @@ impl Model for AirSpring {
             Vector3::new(w, 0.0, self.height),
         ]);
         let [rc, zc] = self.clamp;
-        s.line([Vector3::new(-rc, 0.0, zc), Vector3::new(rc, 0.0, zc)]);
+        if self.convoluted {
+            // the bottom plate and the girdle ring
+            s.line([Vector3::new(-w, 0.0, 0.0), Vector3::new(w, 0.0, 0.0)]);
+            if let Some((k, rg)) = self.girdle {
+                let z = self.q[2 * k + 1];
+                for side in [1.0, -1.0] {
+                    s.line([
+                        Vector3::new(side * rg, 0.0, z),
+                        Vector3::new(side * 1.05 * rg, 0.0, z),
+                    ]);
+                }
+            }
+        } else {
+            s.line([Vector3::new(-rc, 0.0, zc), Vector3::new(rc, 0.0, zc)]);
+        }
         s
     }
 
@@ -1151,7 +1259,8 @@ impl Model for AirSpring {
         self.t = state.t;
         self.height = self.q[1];
         let book = self.main.contact.commit(&self.q, &self.v, false);
-        self.contact_loss += 0.5 * (self.last_damping_power + book.dissipation) * dt;
+        self.contact_loss +=
+            0.5 * (self.last_damping_power + book.dissipation) * dt + book.friction_work;
         self.last_damping_power = book.dissipation;
         self.force = self.reaction_rows(&state.acc).unwrap_or(f64::NAN);
         if self.initialized {

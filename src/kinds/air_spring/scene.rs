@@ -106,6 +106,10 @@ pub mod names {
     pub const PISTON_RADIUS: &str = "piston.radius";
     /// Piston height [m].
     pub const PISTON_HEIGHT: &str = "piston.height";
+    /// Bead radius of the bottom plate of a convoluted spring [m].
+    pub const BOTTOM_PLATE_BEAD_RADIUS: &str = "bottom_plate.bead_radius";
+    /// Inner radius of the girdle ring of a double-convoluted spring [m].
+    pub const GIRDLE_RADIUS: &str = "girdle.radius";
     /// Bead radius of the top plate [m].
     pub const TOP_PLATE_BEAD_RADIUS: &str = "top_plate.bead_radius";
     /// Sleeve radius [m].
@@ -156,6 +160,8 @@ pub mod names {
     pub const PIPE_DIAMETER: &str = "pipe.diameter";
     /// Contact penalty [N/m3].
     pub const CONTACT_STIFFNESS: &str = "contact.stiffness";
+    /// Coulomb friction coefficient of the contact [1] (level 2).
+    pub const CONTACT_MU: &str = "contact.mu";
     /// Elements along the sleeve (Integer).
     pub const MESH_N_MERIDIONAL: &str = "mesh.n_meridional";
     /// Elements around the sleeve (Integer, shell level).
@@ -181,6 +187,31 @@ const TABLE_ONLY: &[(&str, i32)] = &[("table", 3)];
 /// Whether a scene is a table scene (level 3).
 pub fn is_table(s: &AirSpringScene) -> bool {
     s.model.fidelity == 3
+}
+
+/// Bellows types (values of `bellows.type`).
+pub const BELLOWS_TYPES: &[&str] = &["rolling_lobe", "convoluted"];
+
+/// Whether a scene's sleeve is convoluted (`bellows.type = "convoluted"`): clamped between a
+/// top and a bottom bead plate, no piston.
+pub fn is_convoluted(s: &AirSpringScene) -> bool {
+    s.bellows.kind.as_deref() == Some("convoluted")
+}
+
+/// Convolutions of a convoluted sleeve: `bellows.n_convolutions`, 2 (double bellows) unless the
+/// scene says.
+pub fn n_convolutions(s: &AirSpringScene) -> i64 {
+    s.bellows.n_convolutions.unwrap_or(2)
+}
+
+/// What the plate height `top.z` is measured from: the piston base, or for a convoluted spring
+/// the bottom plate.
+fn base(s: &AirSpringScene) -> &'static str {
+    if is_convoluted(s) {
+        "the bottom plate"
+    } else {
+        "the piston base"
+    }
 }
 
 /// Whether a scene is a shell scene (level 1).
@@ -212,11 +243,21 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
             crate::scene::params::describe(FIDELITIES)
         ));
     }
+    if s.contact.mu != 0.0 && (is_shell(s) || is_table(s)) {
+        errs.push(format!(
+            "contact.mu = {}: friction is modelled at level 2 (the axisymmetric membrane) only; remove it or set model.fidelity = 2",
+            s.contact.mu
+        ));
+    }
+    if !(s.contact.mu >= 0.0 && s.contact.mu.is_finite()) {
+        errs.push("contact.mu: must be a finite number >= 0".into());
+    }
     if s.mesh.n_circumferential.is_some() && !is_shell(s) {
         errs.push(
             "mesh.n_circumferential: used by the shell level (model.fidelity = 1) only; remove it or set the fidelity".into(),
         );
     }
+    check_bellows_type(s, &mut errs);
     let parts = [s.reservoir.is_some(), s.orifice.is_some(), s.pipe.is_some()];
     if parts.iter().any(|&p| p) && !parts.iter().all(|&p| p) {
         errs.push(
@@ -267,9 +308,10 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
     if is_table(s) {
         // the membrane tables of a table scene are its record, not parameters: still sane
         let b = &s.bellows;
+        let piston = s.piston();
         for (k, v) in [
-            ("piston.radius", s.piston.radius),
-            ("piston.height", s.piston.height),
+            ("piston.radius", piston.radius),
+            ("piston.height", piston.height),
             ("top_plate.bead_radius", s.top_plate.bead_radius),
             ("bellows.sleeve_radius", b.sleeve_radius),
             ("bellows.sleeve_length", b.sleeve_length),
@@ -285,7 +327,7 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
             }
         }
     }
-    if let Some(c) = &s.piston.contour {
+    if let Some(c) = s.piston.as_ref().and_then(|p| p.contour.as_ref()) {
         if c.len() < 2 {
             errs.push("piston.contour: give at least two points [r, z]".into());
         } else if c.windows(2).any(|w| w[1][1] <= w[0][1])
@@ -301,10 +343,80 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
     if errs.is_empty() { Ok(()) } else { Err(errs) }
 }
 
+/// The tables of the bellows type: a rolling lobe has a piston and neither a bottom plate nor a
+/// girdle; a convoluted sleeve has a `[bottom_plate]`, 1 or 2 convolutions, a `[girdle]`
+/// exactly when it has 2, and no `[piston]`; level 1 (the shell) is built for the rolling lobe
+/// only.
+fn check_bellows_type(s: &AirSpringScene, errs: &mut Vec<String>) {
+    if let Some(t) = &s.bellows.kind
+        && !BELLOWS_TYPES.contains(&t.as_str())
+    {
+        errs.push(format!(
+            "bellows.type = \"{t}\": must be one of {}",
+            BELLOWS_TYPES
+                .iter()
+                .map(|t| format!("\"{t}\""))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        return;
+    }
+    if !is_convoluted(s) {
+        if s.bellows.n_convolutions.is_some() {
+            errs.push("bellows.n_convolutions: used by a convoluted sleeve (bellows.type = \"convoluted\") only".into());
+        }
+        if s.bottom_plate.is_some() {
+            errs.push("bottom_plate: used by a convoluted sleeve (bellows.type = \"convoluted\") only; a rolling lobe stands on its piston".into());
+        }
+        if s.girdle.is_some() {
+            errs.push("girdle: used by a double-convoluted sleeve (bellows.type = \"convoluted\", bellows.n_convolutions = 2) only".into());
+        }
+        return;
+    }
+    let n = n_convolutions(s);
+    if !(n == 1 || n == 2) {
+        errs.push(format!(
+            "bellows.n_convolutions = {n}: a convoluted sleeve has 1 or 2 convolutions"
+        ));
+    }
+    if s.piston.is_some() {
+        errs.push("piston: a convoluted sleeve (bellows.type = \"convoluted\") has no piston; it stands on a [bottom_plate]".into());
+    }
+    if s.bottom_plate.is_none() {
+        errs.push("bottom_plate: a convoluted sleeve needs [bottom_plate] bead_radius [m]".into());
+    }
+    match (n, &s.girdle) {
+        (2, None) => errs.push(
+            "girdle: a double-convoluted sleeve (bellows.n_convolutions = 2) needs [girdle] radius [m]"
+                .into(),
+        ),
+        (1, Some(_)) => errs.push(
+            "girdle: a single convolution has no girdle ring; remove [girdle] or set bellows.n_convolutions = 2".into(),
+        ),
+        _ => {}
+    }
+    if is_shell(s) {
+        errs.push("model.fidelity = 1: the shell level is built for the rolling lobe only; a convoluted sleeve has levels 2 and 3".into());
+    }
+    if is_table(s) {
+        for (k, v) in [
+            (
+                "bottom_plate.bead_radius",
+                s.bottom_plate.as_ref().map_or(1.0, |b| b.bead_radius),
+            ),
+            ("girdle.radius", s.girdle.as_ref().map_or(1.0, |g| g.radius)),
+        ] {
+            if !(v > 0.0 && v.is_finite()) {
+                errs.push(format!("{k}: must be a positive finite number"));
+            }
+        }
+    }
+}
+
 /// The piston contour `[r, z]` points of a scene with the parameter values `p`: the scene's
 /// contour, or the cylinder of `piston.radius`, `piston.height`.
 pub fn piston_contour(s: &AirSpringScene, p: &crate::scene::ParamValues) -> Vec<[f64; 2]> {
-    match &s.piston.contour {
+    match s.piston.as_ref().and_then(|p| p.contour.as_ref()) {
         Some(c) => c.clone(),
         None => {
             let (radius, height) = (p.real(PISTON_RADIUS), p.real(PISTON_HEIGHT));
@@ -344,19 +456,38 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
         defs.extend(gas_params(s));
         return Ok(defs);
     }
-    if s.piston.contour.is_none() {
+    let piston = s.piston();
+    if is_convoluted(s) {
+        let bottom = s.bottom_plate.as_ref().map_or(0.0, |b| b.bead_radius);
+        defs.push(real(
+            BOTTOM_PLATE_BEAD_RADIUS,
+            bottom,
+            Unit::M,
+            "Radius of the bead ring where the sleeve is clamped to the bottom plate (at z = 0)",
+            Check::Positive,
+        ));
+        if let Some(g) = &s.girdle {
+            defs.push(real(
+                GIRDLE_RADIUS,
+                g.radius,
+                Unit::M,
+                "Inner radius of the girdle ring between the two convolutions (a rigid ring at the middle of the sleeve's length, free along the axis)",
+                Check::Positive,
+            ));
+        }
+    } else if piston.contour.is_none() {
         // a contoured piston's shape is its contour (not a parameter)
         defs.extend([
             real(
                 PISTON_RADIUS,
-                s.piston.radius,
+                piston.radius,
                 Unit::M,
                 "Piston radius (a cylinder from its base up to its top)",
                 Check::Positive,
             ),
             real(
                 PISTON_HEIGHT,
-                s.piston.height,
+                piston.height,
                 Unit::M,
                 "Height of the piston top above its base (where the sleeve is clamped)",
                 Check::Positive,
@@ -451,9 +582,22 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
         CONTACT_STIFFNESS,
         s.contact.stiffness,
         Unit::NPerM3,
-        "Penalty of the contact with piston and top plate (pressure per penetration)",
+        if is_convoluted(s) {
+            "Penalty of the contact with the top and bottom plates (pressure per penetration)"
+        } else {
+            "Penalty of the contact with piston and top plate (pressure per penetration)"
+        },
         Check::Positive,
     ));
+    if !is_shell(s) && !table {
+        defs.push(real(
+            CONTACT_MU,
+            s.contact.mu,
+            Unit::One,
+            "Coulomb friction between sleeve and piston / top plate (elasto-plastic bristle of stiffness contact.stiffness per slip, blended stick-slip); 0 = frictionless (default)",
+            Check::NonNegative,
+        ));
+    }
     defs.push(ParamDef::new(
         MESH_N_MERIDIONAL,
         Value::Integer(int_param(s.mesh.n_meridional, MESH_N_MERIDIONAL)?),
@@ -484,7 +628,10 @@ fn gas_params(s: &AirSpringScene) -> Vec<ParamDef> {
             SPRING_DESIGN_HEIGHT,
             s.spring.design_height,
             Unit::M,
-            "Design height: top plate above the piston base where the gas is charged to gas.pressure_design",
+            &format!(
+                "Design height: top plate above {} where the gas is charged to gas.pressure_design",
+                base(s)
+            ),
             Check::Positive,
         ),
         real(
@@ -592,7 +739,10 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         "top.z".into(),
         s.spring.design_height,
         Unit::M,
-        "Height of the top plate above the piston base (start: the design height)".into(),
+        format!(
+            "Height of the top plate above {} (start: the design height)",
+            base(s)
+        ),
         Input::TopZ,
     );
     io.input(
@@ -724,7 +874,11 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         (
             "spring.height",
             Unit::M,
-            "Height of the top plate above the piston base in the committed state",
+            if is_convoluted(s) {
+                "Height of the top plate above the bottom plate in the committed state"
+            } else {
+                "Height of the top plate above the piston base in the committed state"
+            },
             Output::Height,
         ),
         (
@@ -800,4 +954,48 @@ pub fn io(s: &AirSpringScene) -> KindIo<Input, Output> {
         io.output(name.to_string(), Unit::J, what.to_string(), *role);
     }
     io
+}
+
+/// Parameter presets of an air spring (FMI-LS-REF parameter sets, [`crate::ls_ref`]): the
+/// isothermal gas (n = 1), the energy-balance gas law, and 80 % of the design pressure.
+pub fn presets(_s: &AirSpringScene) -> Vec<crate::ls_ref::Preset> {
+    use crate::ls_ref::{
+        Preset,
+        PresetValue::{Scale, Set},
+    };
+    vec![
+        Preset {
+            name: "isothermal",
+            description: "isothermal gas: gas.polytropic_exponent = 1".into(),
+            changes: vec![(GAS_POLYTROPIC_EXPONENT, Set(Value::Real(1.0)))],
+        },
+        Preset {
+            name: "energy_law",
+            description: "gas law from the energy balance (gas.model = 2)".into(),
+            changes: vec![(GAS_MODEL, Set(Value::Integer(2)))],
+        },
+        Preset {
+            name: "pressure_low",
+            description: "design pressure 80 % of the default".into(),
+            changes: vec![(GAS_PRESSURE_DESIGN, Scale(0.8))],
+        },
+    ]
+}
+
+/// Smoke test of an air spring: the plate rises by up to 2 mm and back (`top.z` and,
+/// consistently, `top.vz`); the other plate inputs stay at their start values.
+pub fn smoke_test(_s: &AirSpringScene) -> crate::ls_ref::SmokeTest {
+    use crate::ls_ref::{Shape, SmokeTest, Stimulus};
+    SmokeTest::with(vec![
+        Stimulus {
+            input: "top.z".into(),
+            amplitude: 1e-3,
+            shape: Shape::Excursion,
+        },
+        Stimulus {
+            input: "top.vz".into(),
+            amplitude: 1e-3,
+            shape: Shape::Rate,
+        },
+    ])
 }

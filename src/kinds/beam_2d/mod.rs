@@ -22,6 +22,7 @@ body_kind! {
         summary: "straight planar beam of seed-000 shear-deformable ANCF elements",
         validation: include_str!("validation.txt"),
         legacy: |t| legacy_element_type(t) == Some("ancf_shear_2d") && !legacy_has_belt(t),
+        smoke_test: |s| scene::smoke_test(s),
     }
 }
 

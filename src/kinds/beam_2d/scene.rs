@@ -295,3 +295,36 @@ pub fn io(s: &Beam2dScene) -> KindIo<Input, Output> {
     }
     io
 }
+
+/// Smoke test of a planar beam: the first load's `fy` rises smoothly to the force that bends
+/// a cantilever of this section and length by 0.1 % of its length, `F = 2e-3 L · 3 EI / L³`
+/// with `EI = E w h³ / 12` (Euler–Bernoulli tip stiffness), and back; without loads the first
+/// motion moves by up to 0.2 % of the length in y. Without either, inputs stay constant.
+pub fn smoke_test(s: &Beam2dScene) -> crate::ls_ref::SmokeTest {
+    use crate::ls_ref::{Shape, SmokeTest, Stimulus};
+    let g = &s.geometry;
+    let l = g.length;
+    let ei = s.material.E * g.width * g.height.powi(3) / 12.0;
+    if let Some(load) = s.loads.first() {
+        return SmokeTest::with(vec![Stimulus {
+            input: format!("{}.fy", load.name),
+            amplitude: 0.5 * 2e-3 * l * 3.0 * ei / l.powi(3),
+            shape: Shape::Excursion,
+        }]);
+    }
+    if let Some(m) = s.motions.first() {
+        return SmokeTest::with(vec![
+            Stimulus {
+                input: format!("{}.y", m.name),
+                amplitude: 1e-3 * l,
+                shape: Shape::Excursion,
+            },
+            Stimulus {
+                input: format!("{}.vy", m.name),
+                amplitude: 1e-3 * l,
+                shape: Shape::Rate,
+            },
+        ]);
+    }
+    SmokeTest::default()
+}

@@ -23,6 +23,7 @@ body_kind! {
         summary: "3D beam of seed-003 co-rotational elements along straight and circular pieces",
         validation: include_str!("validation.txt"),
         legacy: |t| legacy_element_type(t) == Some("corotational_3d") && !legacy_has_belt(t),
+        smoke_test: |s| scene::smoke_test(s),
     }
 }
 

@@ -357,3 +357,28 @@ pub fn io(s: &Beam3dScene) -> KindIo<Input, Output> {
     }
     io
 }
+
+/// Smoke test of a 3D beam: the first load's `fz` rises smoothly by the force that bends a
+/// straight cantilever of the centre line's length by 0.1 % of it,
+/// `F = 2e-3 L · 3 EIy / L³` (Euler–Bernoulli tip stiffness), and back.
+pub fn smoke_test(s: &Beam3dScene) -> crate::ls_ref::SmokeTest {
+    use crate::ls_ref::{Shape, SmokeTest, Stimulus};
+    let l: f64 = s
+        .centreline
+        .segments
+        .iter()
+        .map(|g| match (g.length, g.radius, g.angle_deg) {
+            (Some(l), _, _) => l,
+            (None, Some(r), Some(a)) => r * a.to_radians(),
+            _ => 0.0,
+        })
+        .sum();
+    match s.loads.first() {
+        Some(load) if l > 0.0 => SmokeTest::with(vec![Stimulus {
+            input: format!("{}.fz", load.name),
+            amplitude: 0.5 * 2e-3 * l * 3.0 * s.section.EIy / l.powi(3),
+            shape: Shape::Excursion,
+        }]),
+        _ => SmokeTest::default(),
+    }
+}

@@ -24,6 +24,9 @@ body_kind! {
         summary: "closed planar belt over driven and free pulleys with friction contact",
         validation: include_str!("validation.txt"),
         legacy: |t| legacy_has_belt(t),
+        presets: |s| scene::presets(s),
+        smoke_test: |s| scene::smoke_test(s),
+        initial_state: Some("the belt mounted on the pulleys with its pre-tension, after the static pre-load"),
     }
 }
 

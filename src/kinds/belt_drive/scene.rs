@@ -514,3 +514,43 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
     }
     io
 }
+
+/// Parameter presets of a belt drive (FMI-LS-REF parameter sets, [`crate::ls_ref`]): the
+/// pre-tension halved and one and a half times the scene's.
+pub fn presets(_s: &BeltDriveScene) -> Vec<crate::ls_ref::Preset> {
+    use crate::ls_ref::{Preset, PresetValue::Scale};
+    vec![
+        Preset {
+            name: "pretension_low",
+            description: "belt.pretension half the default (a slack belt that slips earlier)"
+                .into(),
+            changes: vec![(BELT_PRETENSION, Scale(0.5))],
+        },
+        Preset {
+            name: "pretension_high",
+            description: "belt.pretension 1.5 times the default".into(),
+            changes: vec![(BELT_PRETENSION, Scale(1.5))],
+        },
+    ]
+}
+
+/// Smoke test of a belt drive: the first pulley turns by up to 0.02 rad and back (driven:
+/// its angle and, consistently, its speed; free: a torque excursion to 2 N m).
+pub fn smoke_test(s: &BeltDriveScene) -> crate::ls_ref::SmokeTest {
+    use crate::ls_ref::{Shape, SmokeTest, Stimulus};
+    let Some(p) = s.pulley.first() else {
+        return SmokeTest::default();
+    };
+    let stim = |input: &str, amplitude, shape| Stimulus {
+        input: format!("pulley1.{input}"),
+        amplitude,
+        shape,
+    };
+    SmokeTest::with(match p.mode {
+        PulleyMode::Driven => vec![
+            stim("angle", 0.01, Shape::Excursion),
+            stim("omega", 0.01, Shape::Rate),
+        ],
+        PulleyMode::Free => vec![stim("torque_in", 1.0, Shape::Excursion)],
+    })
+}
