@@ -470,14 +470,15 @@ fn friction_on_the_piston_lets_the_lobe_roll_and_dissipates() {
     assert!(numerical < 2e-3 * scale, "{numerical} of {scale}");
 }
 
-/// `contact.mu` is a parameter of level 2 only: a shell or table scene that sets it is refused
-/// with a message naming it (they do not model friction), and a negative value is refused.
+/// `contact.mu` is a parameter of the levels with contact (1 and 2): a table scene that sets
+/// it is refused with a message naming it, a negative value is refused, and the table level
+/// does not expose it.
 #[test]
 fn friction_is_refused_where_it_is_not_modelled() {
-    let shell = std::fs::read_to_string(common::scene_path("air_spring")).unwrap();
+    let read = |name: &str| std::fs::read_to_string(common::scene_path(name)).unwrap();
     let mu = |text: &str, v: &str| text.replace("[contact]\n", &format!("[contact]\nmu = {v}\n"));
     for (text, what) in [
-        (mu(&shell, "0.3"), "level 1"),
+        (mu(&read("air_spring_table"), "0.3"), "level 3"),
         (mu(&axisym_text(), "-0.1"), "negative"),
     ] {
         assert!(text.contains("mu = "), "{what}: no [contact] table");
@@ -487,8 +488,10 @@ fn friction_is_refused_where_it_is_not_modelled() {
             .unwrap_or_default();
         assert!(err.contains("contact.mu"), "{what}: {err}");
     }
-    let ok = Scene::from_toml(&mu(&axisym_text(), "0.3")).unwrap();
-    assert!(ok.params.iter().any(|p| p.name == "contact.mu"));
-    let shell = Scene::from_toml(&shell).unwrap();
-    assert!(!shell.params.iter().any(|p| p.name == "contact.mu"));
+    for name in ["air_spring", "air_spring_axisym"] {
+        let ok = Scene::from_toml(&mu(&read(name), "0.3")).unwrap();
+        assert!(ok.params.iter().any(|p| p.name == "contact.mu"), "{name}");
+    }
+    let table = Scene::from_toml(&read("air_spring_table")).unwrap();
+    assert!(!table.params.iter().any(|p| p.name == "contact.mu"));
 }

@@ -23,7 +23,7 @@
 use super::circle_friction::{ContactLaw, smoothed_penalty, stick_slip};
 use super::obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
 use crate::snapshot::{SnapshotError, StateReader, StateWriter};
-use nalgebra::{Matrix3, SVector, Vector2, Vector3};
+use nalgebra::{Matrix3, Matrix4, SVector, Vector2, Vector3};
 
 /// The history of a frictionless contact: nothing.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -311,12 +311,60 @@ impl Obstacle<2> for AxisymObstacle {
     fn shift_history(_h: &mut SlideHistory, _l: usize, _by: f64) {}
 }
 
+/// Committed friction history of a (surface point, piston) pair in space: the bristle is a
+/// vector in the tangent plane (the slip has a meridional and a hoop part once the plate moves
+/// sideways or tilts).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SlideHistory3 {
+    /// The point relative to the obstacle, `(x, y, z − z₀)`, at the last commit [m].
+    pub rel: [f64; 3],
+    /// Bristle deflection `f/k_t` [m].
+    pub z: [f64; 3],
+    /// Friction stress `f` [N/m²].
+    pub f: [f64; 3],
+    /// Whether `rel` is recorded (no friction before the first commit).
+    pub valid: bool,
+}
+
+impl ContactHistory for SlideHistory3 {
+    fn save(&self, w: &mut StateWriter) {
+        for x in self.rel.iter().chain(&self.z).chain(&self.f) {
+            w.f64(*x);
+        }
+        w.bool(self.valid);
+    }
+
+    fn restore(r: &mut StateReader) -> Result<Self, SnapshotError> {
+        let mut v = [0.0; 9];
+        for x in v.iter_mut() {
+            *x = r.f64()?;
+        }
+        Ok(Self {
+            rel: [v[0], v[1], v[2]],
+            z: [v[3], v[4], v[5]],
+            f: [v[6], v[7], v[8]],
+            valid: r.bool()?,
+        })
+    }
+}
+
 /// An active contact point in space (the shell level): force on the point and its
 /// derivatives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RevolutionContact {
-    /// Force on the point `w p n` [N].
+    /// Force on the point `w (p n − f)` [N] (`f` the friction stress in the tangent plane).
     pub force: Vector3<f64>,
+    /// Friction stress `f` [N/m²] (on the point: `−w f`).
+    pub friction: Vector3<f64>,
+    /// Slip over the step `Δs` (in the tangent plane) [m].
+    pub slip_increment: Vector3<f64>,
+    /// Bristle deflection `f/k_t` [m].
+    bristle: Vector3<f64>,
+    /// Whether the point slides.
+    slipping: bool,
+    /// `∂F_f/∂X` and `∂F_f/∂Ẋ` of the friction part `F_f = (−w f, w f_z)` of the force
+    /// vector over `X = (x, y, z, z₀)`.
+    dfric: [Matrix4<f64>; 2],
     /// Penetration [m].
     pub penetration: f64,
     /// `∂δ/∂(x, y, z, z₀)`.
@@ -365,10 +413,15 @@ impl ObstacleContact<3> for RevolutionContact {
                 out[i + 4 * j] += ks * nf[i] * self.dp_turn[j];
             }
         }
+        for j in 0..4 {
+            for i in 0..4 {
+                out[i + 4 * j] += ks * self.dfric[0][(i, j)] + kd * self.dfric[1][(i, j)];
+            }
+        }
     }
 
     fn slipping(&self) -> bool {
-        false
+        self.slipping
     }
 
     fn normal_energy(&self) -> f64 {
@@ -386,7 +439,7 @@ impl ObstacleContact<3> for RevolutionContact {
 /// axial coordinate cannot say (the shell level leaves the fold against the plate out).
 impl Obstacle<3> for AxisymObstacle {
     const N_COORDS: usize = 1;
-    type History = NoHistory;
+    type History = SlideHistory3;
     type Contact = RevolutionContact;
 
     fn near(&self, _a: &SVector<f64, 3>, _b: &SVector<f64, 3>) -> bool {
@@ -400,7 +453,7 @@ impl Obstacle<3> for AxisymObstacle {
         p: &PointMotion<3>,
         x: &[f64],
         xd: &[f64],
-        _hist: &NoHistory,
+        hist: &SlideHistory3,
     ) -> Option<RevolutionContact> {
         if !matches!(self, AxisymObstacle::Piston { .. }) {
             return None;
@@ -432,14 +485,28 @@ impl Obstacle<3> for AxisymObstacle {
         // ∂(∇δ · v)/∂(x, y) = (∂δ/∂r) (I − e_r e_rᵀ) v_xy / r
         let vt = (p.v.xy() - er * er.dot(&p.v.xy())) * (g2[0] / r);
         let turn = w * law.d_n * ramp;
+        let dp = [w * (dpe + law.d_n * dramp * rate), w * law.d_n * ramp];
+        let dp_turn = [turn * vt.x, turn * vt.y];
+        let fr = if law.mu > 0.0 && hist.valid {
+            friction3(
+                law, w, pressure, &normal, &dn, &grad, dp, dp_turn, p, x, xd, hist,
+            )
+        } else {
+            Friction3::default()
+        };
         Some(RevolutionContact {
-            dp_turn: [turn * vt.x, turn * vt.y],
-            force: w * pressure * normal,
+            dp_turn,
+            force: w * pressure * normal - w * fr.f,
+            friction: fr.f,
+            slip_increment: fr.ds,
+            bristle: fr.bristle,
+            slipping: fr.slipping,
+            dfric: fr.d,
             penetration: delta,
             grad,
             normal,
             dn,
-            dp: [w * (dpe + law.d_n * dramp * rate), w * law.d_n * ramp],
+            dp,
             energy: w * ue,
             power: w * law.d_n * ramp * rate * rate,
         })
@@ -447,18 +514,122 @@ impl Obstacle<3> for AxisymObstacle {
 
     fn committed(
         &self,
-        _p: &PointMotion<3>,
-        _x: &[f64],
-        _c: Option<&RevolutionContact>,
-    ) -> NoHistory {
-        NoHistory
+        p: &PointMotion<3>,
+        x: &[f64],
+        c: Option<&RevolutionContact>,
+    ) -> SlideHistory3 {
+        let (f, z) = c.map_or((Vector3::zeros(), Vector3::zeros()), |c| {
+            (c.friction, c.bristle)
+        });
+        SlideHistory3 {
+            rel: [p.r.x, p.r.y, p.r.z - x[0]],
+            z: [z.x, z.y, z.z],
+            f: [f.x, f.y, f.z],
+            valid: true,
+        }
     }
 
-    fn friction_work(_w: f64, _h: &NoHistory, _c: &RevolutionContact) -> f64 {
-        0.0
+    /// Trapezoidal in the slip: `w (f_old + f)/2 · Δs`.
+    fn friction_work(w: f64, h: &SlideHistory3, c: &RevolutionContact) -> f64 {
+        let f_old = Vector3::from(h.f);
+        w * 0.5 * (f_old + c.friction).dot(&c.slip_increment)
     }
 
-    fn shift_history(_h: &mut NoHistory, _l: usize, _by: f64) {}
+    /// The history is relative to the obstacle already: nothing to shift.
+    fn shift_history(_h: &mut SlideHistory3, _l: usize, _by: f64) {}
+}
+
+/// Friction of a point in space ([`friction3`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct Friction3 {
+    f: Vector3<f64>,
+    ds: Vector3<f64>,
+    bristle: Vector3<f64>,
+    slipping: bool,
+    d: [Matrix4<f64>; 2],
+}
+
+/// The bristle law in the tangent plane of a point pressed on the piston with pressure `p`
+/// [Pa], normal `n` (turning with the point about the axis: `dn = w p ∂n/∂(x, y, z)`): slip
+/// `Δs = P (ρ − ρ_old)` with `P = I − n nᵀ` and `ρ = (x, y, z − z₀)`; trial stress
+/// `f* = k_t P (z_old + ρ − ρ_old) + d_t P (v − ż₀ e_z)`; `f = μ p φ(|f*|/(μ p)) f*/|f*|`
+/// ([`stick_slip`]); and the derivatives of the friction part `(−w f, w f_z)` of the force
+/// vector over `X = (x, y, z, z₀)` and its rates:
+/// `∂f = [φ' u uᵀ + (μ p φ/|f*|)(I − u uᵀ)] ∂f* + (φ − x φ') u μ ∂p`, `u = f*/|f*|`,
+/// `∂(P a)/∂X_j = P ∂a/∂X_j − ∂n_j (n·a) − n (∂n_j·a)`.
+#[allow(clippy::too_many_arguments)]
+fn friction3(
+    law: &ContactLaw,
+    w: f64,
+    p: f64,
+    n: &Vector3<f64>,
+    dn: &Matrix3<f64>,
+    grad: &[f64; 4],
+    dp: [f64; 2],
+    dp_turn: [f64; 2],
+    pt: &PointMotion<3>,
+    x: &[f64],
+    xd: &[f64],
+    hist: &SlideHistory3,
+) -> Friction3 {
+    let rel = Vector3::new(pt.r.x, pt.r.y, pt.r.z - x[0]);
+    let d = rel - Vector3::from(hist.rel);
+    let a = Vector3::from(hist.z) + d;
+    let b = Vector3::new(pt.v.x, pt.v.y, pt.v.z - xd[0]);
+    let proj = |u: &Vector3<f64>| u - n * n.dot(u);
+    let ds = proj(&d);
+    let fstar = law.k_t * proj(&a) + law.d_t * proj(&b);
+    let cap = law.mu * p;
+    let m = fstar.norm();
+    // ∂f/∂f* and ∂f/∂p
+    let (f, jac, along, slipping) = if m > 0.0 {
+        let u = fstar / m;
+        let xr = m / cap;
+        let (ph, dph) = stick_slip(xr, law.blend);
+        let uu = u * u.transpose();
+        let jac = dph * uu + (cap * ph / m) * (Matrix3::identity() - uu);
+        (cap * ph * u, jac, (ph - xr * dph) * law.mu * u, m >= cap)
+    } else {
+        (
+            Vector3::zeros(),
+            Matrix3::identity(),
+            Vector3::zeros(),
+            false,
+        )
+    };
+    let mut out = Friction3 {
+        f,
+        ds,
+        bristle: if law.k_t > 0.0 {
+            f / law.k_t
+        } else {
+            Vector3::zeros()
+        },
+        slipping,
+        d: [Matrix4::zeros(); 2],
+    };
+    let e_z = Vector3::z();
+    for j in 0..4 {
+        let dd = if j < 3 { Vector3::ith(j, 1.0) } else { -e_z };
+        let dnj = if j < 3 {
+            dn.column(j) / (w * p)
+        } else {
+            Vector3::zeros()
+        };
+        let dproj = |u: &Vector3<f64>| -(dnj * n.dot(u) + n * dnj.dot(u));
+        let dfs = law.k_t * (proj(&dd) + dproj(&a)) + law.d_t * dproj(&b);
+        let dfs_rate = law.d_t * proj(&dd);
+        let wdp = dp[0] * grad[j] + if j < 2 { dp_turn[j] } else { 0.0 };
+        let wdp_rate = dp[1] * grad[j];
+        for (k, (dfsk, wdpk)) in [(dfs, wdp), (dfs_rate, wdp_rate)].into_iter().enumerate() {
+            let df = w * (jac * dfsk) + along * wdpk;
+            out.d[k][(0, j)] = -df.x;
+            out.d[k][(1, j)] = -df.y;
+            out.d[k][(2, j)] = -df.z;
+            out.d[k][(3, j)] = df.z;
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -653,9 +824,16 @@ mod tests {
                 r: Vector3::new(x[0], x[1], x[2]),
                 v: Vector3::new(v[0], v[1], v[2]),
             };
-            let c =
-                Obstacle::<3>::evaluate(&piston, &law(), 0.01, &p, &[x[3]], &[v[3]], &NoHistory)
-                    .expect("in contact");
+            let c = Obstacle::<3>::evaluate(
+                &piston,
+                &law(),
+                0.01,
+                &p,
+                &[x[3]],
+                &[v[3]],
+                &SlideHistory3::default(),
+            )
+            .expect("in contact");
             [c.force.x, c.force.y, c.force.z, c.generalized_force(0)]
         };
         let f = eval(x, v);
@@ -680,8 +858,16 @@ mod tests {
             r: Vector3::new(x[0], x[1], x[2]),
             v: Vector3::new(v[0], v[1], v[2]),
         };
-        let c = Obstacle::<3>::evaluate(&piston, &law(), 0.01, &p, &[x[3]], &[v[3]], &NoHistory)
-            .unwrap();
+        let c = Obstacle::<3>::evaluate(
+            &piston,
+            &law(),
+            0.01,
+            &p,
+            &[x[3]],
+            &[v[3]],
+            &SlideHistory3::default(),
+        )
+        .unwrap();
         let (mut ks, mut kd) = ([0.0; 16], [0.0; 16]);
         c.iteration_block(1.0, 0.0, &mut ks);
         c.iteration_block(0.0, 1.0, &mut kd);
@@ -879,6 +1065,124 @@ mod tests {
         assert!(
             <AxisymObstacle as Obstacle<2>>::friction_work(1e-4, &h, &c) > 0.0,
             "sliding along −t (Δs < 0) against f < 0: the work w f Δs is dissipated"
+        );
+    }
+
+    /// With friction in space: the iteration block against finite differences of the force
+    /// in position, piston coordinate and rates, in stick, in the blend and sliding, with a
+    /// bristle from the last step lying off the current tangent plane (the normal has turned);
+    /// and a point that stays where it lies on the piston carries no friction.
+    #[test]
+    fn spatial_friction_block_matches_finite_differences() {
+        let piston = AxisymObstacle::Piston {
+            contour: vec![[0.11, 0.0], [0.1, 0.1], [0.1, 0.15]],
+        };
+        let law = friction_law();
+        let (phi, r) = (0.7f64, 0.1045);
+        let x = [r * phi.cos(), r * phi.sin(), 0.05, 0.001];
+        let v = [0.1, -0.2, 0.05, 0.03];
+        let at = |x: [f64; 4], v: [f64; 4]| PointMotion {
+            r: Vector3::new(x[0], x[1], x[2]),
+            v: Vector3::new(v[0], v[1], v[2]),
+        };
+        let c0 = Obstacle::<3>::evaluate(
+            &piston,
+            &law,
+            0.01,
+            &at(x, v),
+            &[x[3]],
+            &[v[3]],
+            &SlideHistory3::default(),
+        )
+        .unwrap();
+        let p0 = c0.force.dot(&c0.normal) / 0.01;
+        // a slip direction in the tangent plane (hoop and meridional) and an old bristle
+        let t_dir = Vector3::new(-phi.sin(), phi.cos(), 0.6).normalize();
+        let t_dir = (t_dir - c0.normal * c0.normal.dot(&t_dir)).normalize();
+        let old_dir = Vector3::new(0.3, -0.2, 0.9);
+        let n0 = c0.normal;
+        let a_dir = 0.8 * t_dir + 0.2 * (old_dir - n0 * n0.dot(&old_dir));
+        for (target, expect) in [(0.3, "stick"), (0.97, "blend"), (3.0, "slide")] {
+            // |f*| ≈ k_t |P (z_old + Δρ)| = target μ p
+            let shift = target * law.mu * p0 / law.k_t / a_dir.norm();
+            let old = 0.2 * shift * old_dir;
+            let hist = SlideHistory3 {
+                rel: [
+                    x[0] - 0.8 * shift * t_dir.x,
+                    x[1] - 0.8 * shift * t_dir.y,
+                    x[2] - x[3] - 0.8 * shift * t_dir.z,
+                ],
+                z: [old.x, old.y, old.z],
+                f: [0.0; 3],
+                valid: true,
+            };
+            let eval = |x: [f64; 4], v: [f64; 4]| {
+                let c = Obstacle::<3>::evaluate(
+                    &piston,
+                    &law,
+                    0.01,
+                    &at(x, v),
+                    &[x[3]],
+                    &[v[3]],
+                    &hist,
+                )
+                .expect("in contact");
+                [c.force.x, c.force.y, c.force.z, c.generalized_force(0)]
+            };
+            let c =
+                Obstacle::<3>::evaluate(&piston, &law, 0.01, &at(x, v), &[x[3]], &[v[3]], &hist)
+                    .unwrap();
+            let pn = c.force.dot(&c.normal) / 0.01;
+            let ratio = c.friction.norm() / (law.mu * pn);
+            match expect {
+                "stick" => assert!(!c.slipping && ratio < 0.9, "{ratio}"),
+                "blend" => assert!(ratio > 0.85 && ratio < 1.0, "{ratio}"),
+                _ => assert!(c.slipping && (ratio - 1.0).abs() < 1e-12, "{ratio}"),
+            }
+            assert!(c.friction.dot(&c.normal).abs() < 1e-9 * c.friction.norm());
+            let (mut ks, mut kd) = ([0.0; 16], [0.0; 16]);
+            c.iteration_block(1.0, 0.0, &mut ks);
+            c.iteration_block(0.0, 1.0, &mut kd);
+            let scale_s = ks.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let scale_d = kd.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for j in 0..4 {
+                let (mut xp, mut xm) = (x, x);
+                xp[j] += 1e-9;
+                xm[j] -= 1e-9;
+                let (fp, fm) = (eval(xp, v), eval(xm, v));
+                let (mut vp, mut vm) = (v, v);
+                vp[j] += 1e-4;
+                vm[j] -= 1e-4;
+                let (gp, gm) = (eval(x, vp), eval(x, vm));
+                for i in 0..4 {
+                    let fd = (fp[i] - fm[i]) / 2e-9;
+                    assert!(
+                        (fd - ks[i + 4 * j]).abs() <= 1e-6 * scale_s,
+                        "{expect} {i}{j}: {fd} vs {}",
+                        ks[i + 4 * j]
+                    );
+                    let fdv = (gp[i] - gm[i]) / 2e-4;
+                    assert!(
+                        (fdv - kd[i + 4 * j]).abs() <= 1e-6 * scale_d,
+                        "{expect} v {i}{j}: {fdv} vs {}",
+                        kd[i + 4 * j]
+                    );
+                }
+            }
+        }
+        // rolling: committed here, the piston and the point then move up together
+        let law = ContactLaw { d_t: 0.0, ..law };
+        let p = at(x, [0.0; 4]);
+        let h = Obstacle::<3>::committed(&piston, &p, &[x[3]], None);
+        let moved = at([x[0], x[1], x[2] + 0.004, 0.0], [0.0; 4]);
+        let c = Obstacle::<3>::evaluate(&piston, &law, 0.01, &moved, &[x[3] + 0.004], &[0.0], &h)
+            .unwrap();
+        // (rounding of z − z₀ only: 1e-17 m of slip against a bristle of k_t = 1e9 Pa/m)
+        let pn = c.force.dot(&c.normal) / 0.01;
+        assert!(
+            c.friction.norm() < 1e-12 * law.mu * pn,
+            "{}",
+            c.friction.norm()
         );
     }
 }

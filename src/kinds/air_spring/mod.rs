@@ -500,8 +500,8 @@ pub struct ContactSection {
     /// `contact.stiffness` [N/m3]: penalty pressure per penetration.
     #[serde(default = "ContactSection::stiffness")]
     pub stiffness: f64,
-    /// `contact.mu` [1]: Coulomb friction between the sleeve and the piston and top plate
-    /// (level 2; default 0, frictionless).
+    /// `contact.mu` [1]: Coulomb friction between the sleeve and the piston (and top plate at
+    /// level 2); levels 1 and 2; default 0, frictionless.
     #[serde(default = "ContactSection::mu", skip_serializing_if = "is_zero")]
     pub mu: f64,
 }

@@ -160,7 +160,7 @@ pub mod names {
     pub const PIPE_DIAMETER: &str = "pipe.diameter";
     /// Contact penalty [N/m3].
     pub const CONTACT_STIFFNESS: &str = "contact.stiffness";
-    /// Coulomb friction coefficient of the contact [1] (level 2).
+    /// Coulomb friction coefficient of the contact [1] (levels 1 and 2).
     pub const CONTACT_MU: &str = "contact.mu";
     /// Elements along the sleeve (Integer).
     pub const MESH_N_MERIDIONAL: &str = "mesh.n_meridional";
@@ -243,9 +243,9 @@ pub fn check(s: &AirSpringScene) -> Result<(), Vec<String>> {
             crate::scene::params::describe(FIDELITIES)
         ));
     }
-    if s.contact.mu != 0.0 && (is_shell(s) || is_table(s)) {
+    if s.contact.mu != 0.0 && is_table(s) {
         errs.push(format!(
-            "contact.mu = {}: friction is modelled at level 2 (the axisymmetric membrane) only; remove it or set model.fidelity = 2",
+            "contact.mu = {}: the table level (model.fidelity = 3) has no contact; remove it or set model.fidelity = 1 or 2",
             s.contact.mu
         ));
     }
@@ -589,7 +589,7 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
         },
         Check::Positive,
     ));
-    if !is_shell(s) && !table {
+    if !table {
         defs.push(real(
             CONTACT_MU,
             s.contact.mu,

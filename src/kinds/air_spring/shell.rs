@@ -408,14 +408,17 @@ impl AirSpringShell {
             }
         }
         let area = 2.0 * PI * r0 * length / (n_circ * n_mer) as f64;
+        // friction (`contact.mu`) as at level 2: a bristle as stiff per slip as the penalty
+        // per penetration, the stick–slip switch blended over ±10 % of μ p
+        let k_n = p.real(CONTACT_STIFFNESS);
         let law = ContactLaw {
-            k_n: p.real(CONTACT_STIFFNESS),
+            k_n,
             d_n: 0.0,
-            k_t: 0.0,
+            k_t: k_n,
             d_t: 0.0,
-            mu: 0.0,
+            mu: p.real(CONTACT_MU),
             smoothing: 1e-5,
-            blend: 0.0,
+            blend: 0.1,
         };
         let piston = AxisymObstacle::Piston {
             contour: contour.iter().map(|c| [s * c[0], c[1]]).collect(),
@@ -1047,6 +1050,9 @@ impl AirSpringShell {
             y,
             ..
         } = cond;
+        // the committed friction: stuck points stay stuck
+        main.contact.copy_histories(&self.main.contact);
+        full.contact.copy_histories(&self.main.contact);
         st.qw.copy_from_slice(&self.st.q);
         st.vw.fill(0.0);
         st.aw.fill(0.0);
@@ -1451,7 +1457,8 @@ impl Model for AirSpringShell {
         });
         self.pose = pose[0];
         let book = self.main.contact.commit(&self.st.q, &self.st.v, false);
-        self.contact_loss += 0.5 * (self.last_damping_power + book.dissipation) * dt;
+        self.contact_loss +=
+            0.5 * (self.last_damping_power + book.dissipation) * dt + book.friction_work;
         self.last_damping_power = book.dissipation;
         if self.commit_reaction().is_err() {
             self.force = [f64::NAN; PLATE_AXES];
