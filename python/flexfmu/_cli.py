@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import os
-import shutil
 import subprocess
 import sys
-import sysconfig
 from pathlib import Path
 
 _HERE = Path(__file__).resolve().parent
@@ -27,15 +25,13 @@ def _repository_target() -> Path | None:
 
 
 def cli_path() -> Path:
-    """The ``flexfmu`` executable: ``$FLEXFMU_CLI``, the one installed with this package (the
-    wheel's scripts), one on ``PATH``, or ``target/release`` of a source checkout."""
+    """The ``flexfmu`` executable: ``$FLEXFMU_CLI``, the one inside this package
+    (``flexfmu/bin/``, from the wheel) or ``target/release`` of a source checkout (not
+    ``PATH``: there the wheel's console script, which calls this, is found)."""
     env = os.environ.get("FLEXFMU_CLI")
     if env:
         return Path(env)
-    candidates = [Path(sysconfig.get_path("scripts")) / _EXE, Path(sys.executable).parent / _EXE]
-    which = shutil.which(_EXE)
-    if which:
-        candidates.append(Path(which))
+    candidates = [_HERE / "bin" / _EXE]
     target = _repository_target()
     if target is not None:
         candidates.append(target / _EXE)
@@ -94,3 +90,15 @@ def run(*args: str | os.PathLike, quiet: bool = False) -> str:
         msg = lines[-1] if lines else f"{' '.join(cmd)} failed with exit code {proc.returncode}"
         raise FlexfmuError(msg)
     return out
+
+
+def main() -> None:
+    """The ``flexfmu`` console script of the wheel: runs the packaged executable."""
+    exe = str(cli_path())
+    env = dict(os.environ)
+    lib = library_path()
+    if lib is not None:
+        env.setdefault("FLEXFMU_LIBRARY", str(lib))
+    if os.name == "nt":
+        sys.exit(subprocess.call([exe, *sys.argv[1:]], env=env))
+    os.execve(exe, [exe, *sys.argv[1:]], env)
