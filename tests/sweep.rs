@@ -48,7 +48,10 @@ outputs = ["tip.x"]
 points = [1, 20]
 "#;
 
-fn bits(r: &[flexfmu::sweep::PointResult]) -> Vec<(usize, Vec<u64>, String, Vec<Vec<u64>>)> {
+/// A point's result as bits: point, reductions, status, series.
+type Bits = (usize, Vec<u64>, String, Vec<Vec<u64>>);
+
+fn bits(r: &[flexfmu::sweep::PointResult]) -> Vec<Bits> {
     r.iter()
         .map(|p| {
             (

@@ -117,8 +117,8 @@ impl<'a> Runner<'a> {
             }),
         );
         let mut read: Vec<u32> = sweep.outputs.iter().map(|o| o.vr).collect();
-        if let Some((outs, _)) = &sweep.series {
-            read.extend(outs.iter().map(|(_, vr)| *vr));
+        if let Some(series) = &sweep.series {
+            read.extend(series.outputs.iter().map(|(_, vr)| *vr));
         }
         Ok(Self {
             sweep,
@@ -147,7 +147,7 @@ impl<'a> Runner<'a> {
     /// initialization and after every step; fmi2Terminate.
     pub fn run(&mut self, p: usize) -> PointResult {
         let sw = self.sweep;
-        let keep_series = sw.series.as_ref().is_some_and(|(_, pts)| pts.contains(&p));
+        let keep_series = sw.series.as_ref().is_some_and(|s| s.points.contains(&p));
         let mut reducers = vec![Reducer::default(); sw.outputs.len()];
         let mut series = Vec::new();
         let status = match self.simulate(p, &mut reducers, keep_series.then_some(&mut series)) {

@@ -167,6 +167,15 @@ pub struct OutputSpec {
     pub reductions: Vec<Reduction>,
 }
 
+/// The time series a sweep keeps.
+#[derive(Clone, Debug)]
+pub struct SeriesSpec {
+    /// Outputs: name and value reference.
+    pub outputs: Vec<(String, u32)>,
+    /// The points whose series are kept.
+    pub points: Vec<usize>,
+}
+
 /// A resolved sweep: the model, the points, the run and what to keep.
 #[derive(Clone, Debug)]
 pub struct Sweep {
@@ -190,8 +199,8 @@ pub struct Sweep {
     pub inputs: Option<InputTable>,
     /// Outputs and reductions kept.
     pub outputs: Vec<OutputSpec>,
-    /// Time series kept: outputs (name, value reference) and the point indices.
-    pub series: Option<(Vec<(String, u32)>, Vec<usize>)>,
+    /// Time series kept, if any.
+    pub series: Option<SeriesSpec>,
 }
 
 impl Sweep {
@@ -526,7 +535,10 @@ pub fn parse_sweep(text: &str, dir: &Path) -> Result<Sweep, String> {
                     ));
                 }
             }
-            Some((outs, s.points.clone()))
+            Some(SeriesSpec {
+                outputs: outs,
+                points: s.points.clone(),
+            })
         }
     };
     Ok(Sweep {

@@ -33,7 +33,7 @@ pub fn results_csv(sweep: &Sweep, results: &[PointResult]) -> String {
 
 /// The series CSV (`point,time,<outputs>`), or `None` when the sweep keeps no series.
 pub fn series_csv(sweep: &Sweep, results: &[PointResult]) -> Option<String> {
-    let (outs, _) = sweep.series.as_ref()?;
+    let outs = &sweep.series.as_ref()?.outputs;
     let mut s = String::from("point,time");
     for (n, _) in outs {
         s.push(',');
@@ -277,7 +277,8 @@ pub fn plan_json(sweep: &Sweep, chunk: std::ops::Range<usize>) -> String {
     let _ = writeln!(s, "  \"outputs\": [{}],", outs.join(", "));
     match &sweep.series {
         None => s.push_str("  \"series\": null,\n"),
-        Some((outs, pts)) => {
+        Some(series) => {
+            let (outs, pts) = (&series.outputs, &series.points);
             let o: Vec<String> = outs
                 .iter()
                 .map(|(n, vr)| format!("{{\"name\": {}, \"vr\": {vr}}}", json_str(n)))
