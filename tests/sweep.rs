@@ -275,3 +275,36 @@ fn bad_sweep_files_name_the_key() {
         assert!(parse_chunk(bad).unwrap_err().contains("--chunk"), "{bad}");
     }
 }
+
+#[test]
+fn a_failing_point_gives_nan_and_its_reason_and_the_instance_goes_on() {
+    // a negative modulus is refused when the model is built; the reused instance is reset
+    // from the error state and runs the next point
+    let text = r#"
+scene = "scenes/pendulum.toml"
+[run]
+stop_time = 0.02
+step = 0.01
+[[parameters]]
+name = "material.E"
+values = [2e7, -1e7, 2e7]
+[[outputs]]
+name = "tip.y"
+reduce = ["final", "max_abs"]
+"#;
+    let sw = parse_sweep(text, &root()).unwrap();
+    let r = run_points(&sw, 0..3, 1, &|_, _| {}).unwrap();
+    assert_eq!(r[0].status, "ok");
+    assert!(r[1].status.contains("material.E"), "{}", r[1].status);
+    assert!(r[1].values.iter().all(|x| x.is_nan()));
+    assert_eq!(r[2].status, "ok");
+    assert_eq!(bits(&r[..1])[0].1, bits(&r[2..])[0].1);
+    let csv = table::results_csv(&sw, &r);
+    assert!(
+        csv.lines()
+            .nth(2)
+            .unwrap()
+            .starts_with("1,-10000000.0,NaN,NaN,"),
+        "{csv}"
+    );
+}
