@@ -225,7 +225,11 @@ def sweep(
         bounds = [i * len(points) // nparts for i in range(nparts + 1)]
         parts = [points[bounds[i] : bounds[i + 1]] for i in range(nparts)]
         [fut_fmu] = client.scatter([fmu_bytes], broadcast=True)
-        futures = [client.submit(run_partition, fut_fmu, pl, part, pure=False) for part in parts]
+        # the run description without the points (each task carries only its own points)
+        [fut_plan] = client.scatter([{k: v for k, v in pl.items() if k != "points"}],
+                                    broadcast=True)
+        futures = [client.submit(run_partition, fut_fmu, fut_plan, part, pure=False)
+                   for part in parts]
         results = []
         t0 = time.perf_counter()
         for done, fut in enumerate(as_completed(futures), 1):
