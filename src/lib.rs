@@ -37,5 +37,6 @@ pub mod packaging;
 pub mod scene;
 pub mod snapshot;
 pub mod solver;
+pub mod sweep;
 pub mod units;
 pub mod variables;

@@ -83,6 +83,31 @@ enum Cmd {
         #[arg(long)]
         elements: Option<usize>,
     },
+    /// Run a parameter sweep (sweep file: see `flexfmu::sweep`): worker threads, each reusing
+    /// one instance; results as CSV (one row per point), a plot for 1-D and 2-D sweeps.
+    Sweep {
+        /// Sweep file (TOML); not with --merge.
+        sweep: Option<PathBuf>,
+        /// Output CSV (default: <sweep file stem>.csv; with --chunk K/N: ..._K_of_N.csv).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Worker threads (default: the available cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Run only slice K of N (1-based), e.g. from a batch array job; join with --merge.
+        #[arg(long)]
+        chunk: Option<String>,
+        /// Join the result CSVs of chunks into -o (no sweep file).
+        #[arg(long, num_args = 1.., conflicts_with_all = ["sweep", "chunk", "plan"])]
+        merge: Vec<PathBuf>,
+        /// Write the expanded sweep (points, value references, run) as JSON for the Python
+        /// front end instead of running it.
+        #[arg(long)]
+        plan: Option<PathBuf>,
+        /// No progress on stderr.
+        #[arg(long, short)]
+        quiet: bool,
+    },
 }
 
 fn run(cli: Cli) -> Result<(), String> {
@@ -184,6 +209,15 @@ fn run(cli: Cli) -> Result<(), String> {
             std::fs::write(&output, out).map_err(|e| format!("{}: {e}", output.display()))?;
             println!("wrote {}", output.display());
         }
+        Cmd::Sweep {
+            sweep,
+            output,
+            threads,
+            chunk,
+            merge,
+            plan,
+            quiet,
+        } => sweep_command(sweep, output, threads, chunk, merge, plan, quiet)?,
         Cmd::Check { scenes } => {
             for path in scenes {
                 let summary = check_path(&path)?;
@@ -191,6 +225,71 @@ fn run(cli: Cli) -> Result<(), String> {
             }
         }
     }
+    Ok(())
+}
+
+/// `flexfmu sweep`.
+fn sweep_command(
+    sweep: Option<PathBuf>,
+    output: Option<PathBuf>,
+    threads: Option<usize>,
+    chunk: Option<String>,
+    merge: Vec<PathBuf>,
+    plan: Option<PathBuf>,
+    quiet: bool,
+) -> Result<(), String> {
+    use flexfmu::sweep;
+    if !merge.is_empty() {
+        let out = output.ok_or("--merge needs -o OUT.csv")?;
+        for p in sweep::merge_files(&merge, &out)? {
+            println!("wrote {}", p.display());
+        }
+        return Ok(());
+    }
+    let path = sweep.ok_or("give a sweep file (or --merge FILES -o OUT)")?;
+    let sw = sweep::read_sweep(&path)?;
+    let chunk = chunk.as_deref().map(sweep::parse_chunk).transpose()?;
+    let range = sweep::points_of(&sw, chunk);
+    if let Some(plan) = plan {
+        std::fs::write(&plan, sweep::table::plan_json(&sw, range))
+            .map_err(|e| format!("cannot write {}: {e}", plan.display()))?;
+        println!("wrote {}", plan.display());
+        return Ok(());
+    }
+    let out = output.unwrap_or_else(|| match chunk {
+        None => path.with_extension("csv"),
+        Some((k, n)) => sweep::sibling(&path, &format!("_{k}_of_{n}.csv")),
+    });
+    let threads = threads.unwrap_or_else(|| {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    });
+    let start = std::time::Instant::now();
+    let total_all = sw.points.len();
+    let progress = |done: usize, total: usize| {
+        if quiet {
+            return;
+        }
+        let el = start.elapsed().as_secs_f64();
+        let eta = el / done as f64 * (total - done) as f64;
+        eprint!(
+            "\rsweep: {done}/{total} points ({total_all} in the sweep), {el:.1} s, {eta:.0} s left   "
+        );
+    };
+    let results = sweep::run_points(&sw, range, threads, &progress)?;
+    if !quiet {
+        eprintln!();
+    }
+    let failed = results.iter().filter(|r| r.status != "ok").count();
+    for p in sweep::write_results(&sw, &results, &out, chunk.is_none())? {
+        println!("wrote {}", p.display());
+    }
+    println!(
+        "{} points in {:.2} s on {threads} threads, {failed} failed",
+        results.len(),
+        start.elapsed().as_secs_f64()
+    );
     Ok(())
 }
 
