@@ -3,7 +3,7 @@
 //!
 //! ```sh
 //! cargo run --release --example fuzz_fmi -- --sequences 100000 [--seed S] [--threads 2]
-//!     [--first K] [--hang-seconds 10] [--progress 1000] [--trace]
+//!     [--first K] [--hang-seconds 30] [--progress 1000] [--trace]
 //! ```
 //!
 //! Prints progress and a summary (sequences, calls, statuses by kind, slowest sequence) and
