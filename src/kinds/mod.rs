@@ -23,7 +23,8 @@ macro_rules! body_kind {
             legacy: |$t:ident| $legacy:expr
             $(, presets: |$ps:ident| $presets:expr)?
             $(, smoke_test: |$sm:ident| $smoke:expr)?
-            $(, initial_state: $istate:expr)? $(,)?
+            $(, initial_state: $istate:expr)?
+            $(, knobs: |$kn:ident| $knobs:expr)? $(,)?
         }
     ) => {
         body_kind! {
@@ -38,6 +39,7 @@ macro_rules! body_kind {
                 $(, presets: |$ps| $presets)?
                 $(, smoke_test: |$sm| $smoke)?
                 $(, initial_state: $istate)?
+                $(, knobs: |$kn| $knobs)?
             }
         }
     };
@@ -52,7 +54,8 @@ macro_rules! body_kind {
             legacy: |$t:ident| $legacy:expr
             $(, presets: |$ps:ident| $presets:expr)?
             $(, smoke_test: |$sm:ident| $smoke:expr)?
-            $(, initial_state: $istate:expr)? $(,)?
+            $(, initial_state: $istate:expr)?
+            $(, knobs: |$kn:ident| $knobs:expr)? $(,)?
         }
     ) => {
         $(#[$doc])*
@@ -131,6 +134,13 @@ macro_rules! body_kind {
             $(
                 fn initial_state(&self) -> Option<&'static str> {
                     $istate
+                }
+            )?
+
+            $(
+                fn knobs(&self) -> Vec<$crate::advise::Knob> {
+                    let $kn = self;
+                    $knobs
                 }
             )?
         }
@@ -237,6 +247,13 @@ pub trait KindScene: Debug + Send + Sync + Any {
     /// parameters), and what that state is; `None` (the default): it does not.
     fn initial_state(&self) -> Option<&'static str> {
         None
+    }
+
+    /// The parameters `flexfmu advise` varies in its convergence study (element family,
+    /// counts, integrator, steps, tolerances: [`crate::advise::Knob`]); by default the solver
+    /// knobs every kind has.
+    fn knobs(&self) -> Vec<crate::advise::Knob> {
+        crate::advise::solver_knobs()
     }
 }
 

@@ -328,3 +328,11 @@ pub fn smoke_test(s: &Beam2dScene) -> crate::ls_ref::SmokeTest {
     }
     SmokeTest::default()
 }
+
+/// The knobs `flexfmu advise` varies: the element count (at least 1) and the solver knobs.
+pub fn knobs(_s: &Beam2dScene) -> Vec<crate::advise::Knob> {
+    use crate::advise::{Knob, KnobRole, solver_knobs};
+    let mut k = vec![Knob::new(MESH_N_ELEMENTS, KnobRole::Count { min: 1 })];
+    k.extend(solver_knobs());
+    k
+}

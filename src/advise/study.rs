@@ -1,0 +1,603 @@
+//! The convergence study of `flexfmu advise`: runs a grid of configurations of a scene's knobs
+//! in process ([`Simulation`], no FMU), estimates each element family's converged answer by
+//! Richardson extrapolation on its three finest refinement runs, measures every
+//! configuration's error on one output against its family's answer, and picks the cheapest
+//! configuration within the tolerance.
+
+use super::knobs::{Knob, KnobRole};
+use super::signals::Signals;
+use crate::model::build_model;
+use crate::scene::{ParamValues, Scene};
+use crate::solver::simulation::{Simulation, SolverConfig};
+use crate::variables::{Role, Value, VariableTable};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// What to study.
+#[derive(Clone, Debug)]
+pub struct AdviseOptions {
+    /// The output whose error counts (a variable name such as `tip.y`).
+    pub output: String,
+    /// Admissible error on that output, max over the run [the output's unit].
+    pub tol: f64,
+    /// End of the run [s] (default: the scene's `[experiment] stop_time`).
+    pub stop_time: Option<f64>,
+    /// Input time histories (default: inputs stay at their start values).
+    pub inputs: Option<Signals>,
+    /// Allow a different element family than the scene's even when the families' converged
+    /// answers differ by more than `tol`.
+    pub allow_element_change: bool,
+    /// Refinement levels per ladder (at least 3: Richardson needs three).
+    pub levels: usize,
+    /// How many of the levels are finer than the scene's own values (the others coarser).
+    pub finer: usize,
+    /// Worker threads.
+    pub jobs: usize,
+    /// Progress bar on stderr.
+    pub progress: bool,
+}
+
+impl AdviseOptions {
+    /// Defaults for `output` and `tol`: the scene's stop time, no inputs, 4 levels of which 1
+    /// finer than the scene, as many threads as cores (at most 2), a progress bar.
+    pub fn new(output: &str, tol: f64) -> Self {
+        Self {
+            output: output.to_string(),
+            tol,
+            stop_time: None,
+            inputs: None,
+            allow_element_change: false,
+            levels: 4,
+            finer: 1,
+            jobs: std::thread::available_parallelism()
+                .map(|n| n.get().min(2))
+                .unwrap_or(1),
+            progress: true,
+        }
+    }
+}
+
+/// One configuration: the knob values and where it sits in the ladders.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Config {
+    /// Parameter values set over the scene's defaults, in the order of the knobs.
+    pub values: Vec<(&'static str, Value)>,
+    /// Element family code (`None`: the kind has no family knob).
+    pub family: Option<i32>,
+    /// Mesh level (0 = coarsest).
+    pub mesh_level: usize,
+    /// Step level (0 = coarsest); adaptive runs use the coarsest step as their cap.
+    pub step_level: usize,
+    /// Whether every discrete variant has the scene's value.
+    pub scene_variant: bool,
+    /// Adaptive runs: index into the tolerance ladder.
+    pub tol_level: Option<usize>,
+}
+
+impl Config {
+    /// `param=value` pairs separated by spaces.
+    pub fn label(&self) -> String {
+        self.values
+            .iter()
+            .map(|(n, v)| format!("{n}={}", show(*v)))
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+}
+
+/// A value as the table shows it.
+pub fn show(v: Value) -> String {
+    match v {
+        Value::Real(x) => format!("{x:e}"),
+        Value::Integer(i) => i.to_string(),
+        Value::Boolean(b) => b.to_string(),
+    }
+}
+
+/// A configuration's run.
+#[derive(Clone, Debug)]
+pub struct Run {
+    /// The configuration.
+    pub config: Config,
+    /// The output at the common time points, or why the run failed.
+    pub samples: Result<Vec<f64>, String>,
+    /// Wall time of the time stepping [s] (initialization excluded).
+    pub wall: f64,
+    /// Max over time of |output − family's converged answer| (infinite for a failed run).
+    pub error: f64,
+}
+
+impl Run {
+    /// Wall time per simulated second [s/s].
+    pub fn wall_per_second(&self, span: f64) -> f64 {
+        self.wall / span
+    }
+}
+
+/// The converged answer of one element family.
+#[derive(Clone, Debug)]
+pub struct FamilyAnswer {
+    /// Family code (`None`: the kind has none).
+    pub family: Option<i32>,
+    /// Indices into [`Advice::runs`] of the refinement runs used, coarse to fine.
+    pub path: [usize; 3],
+    /// Observed order p = log2(‖y₂ − y₁‖ / ‖y₃ − y₂‖) per halving of (1/count, step); `None`
+    /// when the two finest runs agree exactly or no convergence was observed.
+    pub order: Option<f64>,
+    /// The extrapolated answer at the common time points.
+    pub answer: Vec<f64>,
+    /// Estimated error of the finest run, ‖answer − y₃‖ (max over time).
+    pub uncertainty: f64,
+    /// A warning when the finest levels do not converge.
+    pub warning: Option<String>,
+}
+
+/// The result of a study.
+#[derive(Clone, Debug)]
+pub struct Advice {
+    /// The options it ran with.
+    pub output: String,
+    /// Tolerance.
+    pub tol: f64,
+    /// The knobs studied.
+    pub knobs: Vec<Knob>,
+    /// Common time points [s] (communication points of every run).
+    pub times: Vec<f64>,
+    /// Communication step of the study [s].
+    pub comm_step: f64,
+    /// Every run.
+    pub runs: Vec<Run>,
+    /// Each family's converged answer, the scene's family first.
+    pub families: Vec<FamilyAnswer>,
+    /// Max over time of the difference between the scene's family's converged answer and
+    /// each other family's, by family code.
+    pub family_differences: Vec<(i32, f64)>,
+    /// Families the choice may use.
+    pub allowed_families: Vec<Option<i32>>,
+    /// Index into `runs` of the cheapest configuration within `tol` among allowed families.
+    pub chosen: Option<usize>,
+}
+
+impl Advice {
+    /// Simulated time span [s].
+    pub fn span(&self) -> f64 {
+        self.times[self.times.len() - 1] - self.times[0]
+    }
+
+    /// The family answer the run `i` is measured against.
+    pub fn answer_of(&self, i: usize) -> &FamilyAnswer {
+        let f = self.runs[i].config.family;
+        self.families
+            .iter()
+            .find(|a| a.family == f)
+            .expect("every family has an answer")
+    }
+
+    /// Whether run `i` is on the Pareto front (no other successful run is both faster and at
+    /// most as wrong).
+    pub fn pareto(&self, i: usize) -> bool {
+        let r = &self.runs[i];
+        r.error.is_finite()
+            && !self.runs.iter().enumerate().any(|(j, o)| {
+                j != i
+                    && o.error.is_finite()
+                    && o.wall <= r.wall
+                    && o.error <= r.error
+                    && (o.wall < r.wall || o.error < r.error)
+            })
+    }
+}
+
+/// The error of `samples` against `answer`: max over the common time points.
+pub fn max_difference(samples: &[f64], answer: &[f64]) -> f64 {
+    samples
+        .iter()
+        .zip(answer)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Richardson extrapolation of three runs `y1`, `y2`, `y3` (coarse to fine, each refinement
+/// halving the discretization parameters): with r = ‖y₂ − y₁‖∞ / ‖y₃ − y₂‖∞ the observed
+/// order is p = log₂ r and the answer y* = y₃ + (y₃ − y₂)/(r − 1) at every time point
+/// (Richardson 1911; the observed-order form, e.g. Roache, "Verification and Validation in
+/// Computational Science and Engineering", 1998, ch. 5). Returns (answer, order, uncertainty
+/// ‖y* − y₃‖∞, warning). Without observed convergence (r ≤ 1.1) the answer is the finest run
+/// and its uncertainty ‖y₃ − y₂‖∞.
+pub fn richardson(
+    y1: &[f64],
+    y2: &[f64],
+    y3: &[f64],
+) -> (Vec<f64>, Option<f64>, f64, Option<String>) {
+    let d12 = max_difference(y2, y1);
+    let d23 = max_difference(y3, y2);
+    if d23 == 0.0 {
+        return (y3.to_vec(), None, 0.0, None);
+    }
+    let r = d12 / d23;
+    if r.is_nan() || r <= 1.1 {
+        return (
+            y3.to_vec(),
+            None,
+            d23,
+            Some(format!(
+                "no convergence observed on the three finest levels (differences {d12:.3e} then {d23:.3e}): the answer is the finest run; add finer levels (--finer)"
+            )),
+        );
+    }
+    let answer = y3
+        .iter()
+        .zip(y2)
+        .map(|(c, b)| c + (c - b) / (r - 1.0))
+        .collect();
+    (answer, Some(r.log2()), d23 / (r - 1.0), None)
+}
+
+/// The value of a knob at a ladder level for a base value.
+fn count_at(base: i32, min: i32, offset: i32) -> i32 {
+    let v = base as f64 * 2f64.powi(offset);
+    (v.round() as i32).max(min)
+}
+
+/// Runs the study. Errors: an unknown output (the message lists the scene's outputs), a bad
+/// tolerance or level count, a refinement run that fails.
+pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
+    let vars = VariableTable::from_scene(scene);
+    let outputs: Vec<&str> = vars
+        .vars()
+        .iter()
+        .filter(|v| matches!(v.role, Role::Output(_)))
+        .map(|v| v.name.as_str())
+        .collect();
+    let output = match vars.by_name(&opts.output).map(|v| v.role) {
+        Some(Role::Output(k)) => k,
+        _ => {
+            return Err(format!(
+                "--output {}: not an output of scene `{}`; its outputs are: {}",
+                opts.output,
+                scene.model_name(),
+                outputs.join(", ")
+            ));
+        }
+    };
+    if !(opts.tol.is_finite() && opts.tol > 0.0) {
+        return Err(format!(
+            "--tol {}: the tolerance must be a positive finite number (in the unit of {})",
+            opts.tol, opts.output
+        ));
+    }
+    if opts.levels < 3 || opts.finer >= opts.levels {
+        return Err(format!(
+            "--levels {} --finer {}: Richardson extrapolation needs at least 3 levels, and at least one level must not be finer than the scene",
+            opts.levels, opts.finer
+        ));
+    }
+    let t0 = scene.common.experiment.start_time;
+    let stop = opts.stop_time.unwrap_or(scene.common.experiment.stop_time);
+    if !(stop.is_finite() && stop > t0) {
+        return Err(format!(
+            "--stop-time {stop}: must be finite and after the start time {t0} s"
+        ));
+    }
+    let defaults = ParamValues::defaults(&scene.params);
+    let knobs: Vec<Knob> = scene
+        .body
+        .knobs()
+        .into_iter()
+        .filter(|k| defaults.get(k.param).is_some())
+        .collect();
+    let levels = opts.levels;
+    let coarse = (levels - 1 - opts.finer) as i32;
+    let base_step = knobs
+        .iter()
+        .find(|k| k.role == KnobRole::Step)
+        .map(|k| defaults.real(k.param));
+    let comm_step = base_step
+        .map(|h| h * 2f64.powi(coarse))
+        .unwrap_or(0.0)
+        .max(scene.common.experiment.step_size)
+        .min(stop - t0);
+    let n_points = ((stop - t0) / comm_step - 1e-9).ceil() as usize;
+    let times: Vec<f64> = (0..=n_points)
+        .map(|i| (t0 + i as f64 * comm_step).min(stop))
+        .collect();
+
+    // the ladders
+    let scene_family = knobs.iter().find_map(|k| match k.role {
+        KnobRole::Family(_) => Some(defaults.integer(k.param)),
+        _ => None,
+    });
+    let mut families: Vec<Option<i32>> = vec![scene_family];
+    for k in &knobs {
+        if let KnobRole::Family(codes) = k.role {
+            families.extend(
+                codes
+                    .iter()
+                    .filter(|c| Some(**c) != scene_family)
+                    .map(|c| Some(*c)),
+            );
+        }
+    }
+    // variant combinations: every code of every variant knob (the scene's value included)
+    let mut variants: Vec<Vec<(&'static str, Value)>> = vec![vec![]];
+    for k in &knobs {
+        if let KnobRole::Variant(codes) = k.role {
+            let own = defaults.integer(k.param);
+            let mut list = vec![own];
+            list.extend(codes.iter().filter(|c| **c != own));
+            variants = variants
+                .into_iter()
+                .flat_map(|v| {
+                    list.iter().map(move |c| {
+                        let mut v = v.clone();
+                        v.push((k.param, Value::Integer(*c)));
+                        v
+                    })
+                })
+                .collect();
+        }
+    }
+    let has_tolerance = knobs.iter().any(|k| k.role == KnobRole::Tolerance);
+    let mut configs = Vec::new();
+    for family in &families {
+        for m in 0..levels {
+            for (vi, variant) in variants.iter().enumerate() {
+                let steps = (0..levels).map(|s| (s, None));
+                let adaptive = (0..levels)
+                    .filter(|_| has_tolerance && vi == 0)
+                    .map(|k| (0, Some(k)));
+                for (s, tl) in steps.chain(adaptive) {
+                    let mut values = Vec::new();
+                    for k in &knobs {
+                        let v = match k.role {
+                            KnobRole::Family(_) => Value::Integer(family.expect("family knob")),
+                            KnobRole::Variant(_) => {
+                                match variant.iter().find(|(n, _)| *n == k.param) {
+                                    Some((_, v)) => *v,
+                                    None => defaults.get(k.param).expect("filtered"),
+                                }
+                            }
+                            KnobRole::Count { min } => Value::Integer(count_at(
+                                defaults.integer(k.param),
+                                min,
+                                m as i32 - coarse,
+                            )),
+                            KnobRole::Step => {
+                                Value::Real(defaults.real(k.param) * 2f64.powi(coarse - s as i32))
+                            }
+                            KnobRole::Tolerance => Value::Real(match tl {
+                                Some(k) => 1e-2 * 10f64.powi(-(k as i32)),
+                                None => 0.0,
+                            }),
+                        };
+                        values.push((k.param, v));
+                    }
+                    configs.push(Config {
+                        values,
+                        family: *family,
+                        mesh_level: m,
+                        step_level: s,
+                        scene_variant: vi == 0,
+                        tol_level: tl,
+                    });
+                }
+            }
+        }
+    }
+    // identical configurations (a count clamped at its minimum) run once
+    let mut unique: Vec<Config> = Vec::new();
+    for c in configs {
+        if !unique.iter().any(|u| u.values == c.values) {
+            unique.push(c);
+        }
+    }
+    let configs = unique;
+
+    let results = run_all(scene, &configs, output, &times, opts)?;
+    let mut runs: Vec<Run> = configs
+        .into_iter()
+        .zip(results)
+        .map(|(config, (samples, wall))| Run {
+            config,
+            samples,
+            wall,
+            error: f64::INFINITY,
+        })
+        .collect();
+
+    // each family's answer from its refinement path (mesh level = step level, scene variants,
+    // fixed steps), three finest levels
+    let mut answers = Vec::new();
+    for family in &families {
+        let find = |l: usize| {
+            runs.iter().position(|r| {
+                r.config.family == *family
+                    && r.config.scene_variant
+                    && r.config.tol_level.is_none()
+                    && r.config.mesh_level == l
+                    && r.config.step_level == l
+            })
+        };
+        let path: Vec<usize> = (levels - 3..levels).filter_map(find).collect();
+        let path: [usize; 3] = path
+            .try_into()
+            .map_err(|_| "internal: refinement path incomplete".to_string())?;
+        let mut ys = Vec::new();
+        for &i in &path {
+            match &runs[i].samples {
+                Ok(y) => ys.push(y.clone()),
+                Err(e) => {
+                    return Err(format!(
+                        "the refinement run {} failed, so there is no converged answer{}: {e}",
+                        runs[i].config.label(),
+                        family
+                            .map(|f| format!(" for family {f}"))
+                            .unwrap_or_default()
+                    ));
+                }
+            }
+        }
+        let (answer, order, uncertainty, warning) = richardson(&ys[0], &ys[1], &ys[2]);
+        answers.push(FamilyAnswer {
+            family: *family,
+            path,
+            order,
+            answer,
+            uncertainty,
+            warning,
+        });
+    }
+    for r in &mut runs {
+        let a = answers
+            .iter()
+            .find(|a| a.family == r.config.family)
+            .expect("answer per family");
+        r.error = match &r.samples {
+            Ok(y) => max_difference(y, &a.answer),
+            Err(_) => f64::INFINITY,
+        };
+    }
+    let family_differences: Vec<(i32, f64)> = answers[1..]
+        .iter()
+        .map(|a| {
+            (
+                a.family.expect("other families have codes"),
+                max_difference(&a.answer, &answers[0].answer),
+            )
+        })
+        .collect();
+    let mut allowed = vec![scene_family];
+    for (f, d) in &family_differences {
+        if opts.allow_element_change || *d <= opts.tol {
+            allowed.push(Some(*f));
+        }
+    }
+    let chosen = (0..runs.len())
+        .filter(|&i| runs[i].error <= opts.tol && allowed.contains(&runs[i].config.family))
+        .min_by(|&a, &b| runs[a].wall.total_cmp(&runs[b].wall));
+    Ok(Advice {
+        output: opts.output.clone(),
+        tol: opts.tol,
+        knobs,
+        times,
+        comm_step,
+        runs,
+        families: answers,
+        family_differences,
+        allowed_families: allowed,
+        chosen,
+    })
+}
+
+/// Runs every configuration on `opts.jobs` threads (largest estimated cost first), with a
+/// progress bar on stderr; returns (samples or failure, wall time of the stepping) by index.
+#[allow(clippy::type_complexity)]
+fn run_all(
+    scene: &Scene,
+    configs: &[Config],
+    output: usize,
+    times: &[f64],
+    opts: &AdviseOptions,
+) -> Result<Vec<(Result<Vec<f64>, String>, f64)>, String> {
+    // estimated cost: counts over the step
+    let cost = |c: &Config| {
+        c.values.iter().fold(1.0, |acc, (_, v)| {
+            acc * match v {
+                Value::Integer(i) if *i > 0 => *i as f64,
+                _ => 1.0,
+            }
+        }) * 2f64.powi(c.step_level as i32)
+    };
+    let mut order: Vec<usize> = (0..configs.len()).collect();
+    order.sort_by(|&a, &b| cost(&configs[b]).total_cmp(&cost(&configs[a])));
+    let results: Mutex<Vec<Option<(Result<Vec<f64>, String>, f64)>>> =
+        Mutex::new(vec![None; configs.len()]);
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let started = Instant::now();
+    let progress = |n: usize| {
+        if opts.progress {
+            let total = configs.len();
+            let width = 30;
+            let filled = n * width / total.max(1);
+            let el = started.elapsed().as_secs_f64();
+            eprint!(
+                "\radvise: [{}{}] {n}/{total} runs, {el:.0} s",
+                "#".repeat(filled),
+                " ".repeat(width - filled)
+            );
+            if n == total {
+                eprintln!();
+            }
+        }
+    };
+    progress(0);
+    std::thread::scope(|s| {
+        for _ in 0..opts.jobs.max(1) {
+            s.spawn(|| {
+                loop {
+                    let k = next.fetch_add(1, Ordering::SeqCst);
+                    let Some(&i) = order.get(k) else { break };
+                    let r = run_one(scene, &configs[i], output, times, opts.inputs.as_ref());
+                    results.lock().expect("no panics while locked")[i] = Some(r);
+                    progress(done.fetch_add(1, Ordering::SeqCst) + 1);
+                }
+            });
+        }
+    });
+    Ok(results
+        .into_inner()
+        .expect("threads joined")
+        .into_iter()
+        .map(|r| r.expect("every configuration ran"))
+        .collect())
+}
+
+/// One run: the scene with the configuration's values, inputs from `signals` (value and
+/// slope at each communication point), the output at every time point.
+pub fn run_one(
+    scene: &Scene,
+    config: &Config,
+    output: usize,
+    times: &[f64],
+    signals: Option<&Signals>,
+) -> (Result<Vec<f64>, String>, f64) {
+    let mut params = ParamValues::defaults(&scene.params);
+    for (n, v) in &config.values {
+        params.set(n, *v);
+    }
+    let mut wall = 0.0;
+    let samples = (|| {
+        let model = build_model(scene, &params)?;
+        let mut sim = Simulation::new(model, SolverConfig::from_params(&params), times[0])?;
+        let set_inputs = |sim: &mut Simulation, t: f64| -> Result<(), String> {
+            if let Some(s) = signals {
+                for (c, (k, _, _)) in s.columns.iter().enumerate() {
+                    let (v, slope) = s.at(c, t);
+                    sim.set_input(*k, v);
+                    sim.set_input_derivative(*k, 1, slope)?;
+                }
+            }
+            Ok(())
+        };
+        set_inputs(&mut sim, times[0])?;
+        sim.initialize()?;
+        let clock = Instant::now();
+        let mut y = Vec::with_capacity(times.len());
+        y.push(sim.output(output));
+        for w in times.windows(2) {
+            set_inputs(&mut sim, w[0])?;
+            sim.advance(w[1])
+                .map_err(|e| format!("at t = {} s: {}", e.reached, e.message))?;
+            let v = sim.output(output);
+            if !v.is_finite() {
+                return Err(format!("the output is not finite at t = {} s", w[1]));
+            }
+            y.push(v);
+        }
+        wall = clock.elapsed().as_secs_f64();
+        Ok(y)
+    })();
+    (samples, wall)
+}
