@@ -42,6 +42,9 @@ pub fn summary(a: &Advice) -> String {
             let _ = writeln!(s, "  warning: {w}");
         }
     }
+    for n in &a.notes {
+        let _ = writeln!(s, "{n}");
+    }
     for (f, d) in &a.family_differences {
         let _ = writeln!(
             s,
@@ -78,7 +81,7 @@ pub fn summary(a: &Advice) -> String {
                 (0..a.runs.len()).min_by(|&x, &y| a.runs[x].error.total_cmp(&a.runs[y].error));
             let _ = writeln!(
                 s,
-                "advice: no configuration meets TOL {:e}; the most accurate was {} with error {:.3e} (add finer levels: --finer)",
+                "advice: none: no configuration of a family with a trusted converged answer meets TOL {:e} (see the warnings); the most accurate run was {} with error {:.3e}",
                 a.tol,
                 best.map(|i| a.runs[i].config.label()).unwrap_or_default(),
                 best.map(|i| a.runs[i].error).unwrap_or(f64::NAN)
@@ -159,7 +162,9 @@ pub fn markdown(a: &Advice) -> String {
 /// saying where they come from. Checked: the new file parses and its parameter defaults are
 /// the chosen values.
 pub fn advised_scene(scene: &Scene, a: &Advice) -> Result<String, String> {
-    let i = a.chosen.ok_or("no configuration meets the tolerance")?;
+    let i = a.chosen.ok_or(
+        "no advice: no configuration meets the tolerance against a trusted converged answer (see the summary)",
+    )?;
     let r = &a.runs[i];
     let mut text = scene.text.clone();
     for (k, (_, v)) in a.knobs.iter().zip(&r.config.values) {

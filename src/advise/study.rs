@@ -32,6 +32,8 @@ pub struct AdviseOptions {
     pub levels: usize,
     /// How many of the levels are finer than the scene's own values (the others coarser).
     pub finer: usize,
+    /// Knobs (parameter names) kept at the scene's values instead of studied.
+    pub keep: Vec<String>,
     /// Worker threads.
     pub jobs: usize,
     /// Progress bar on stderr.
@@ -50,6 +52,7 @@ impl AdviseOptions {
             allow_element_change: false,
             levels: 4,
             finer: 1,
+            keep: Vec::new(),
             jobs: std::thread::available_parallelism()
                 .map(|n| n.get().min(2))
                 .unwrap_or(1),
@@ -157,6 +160,8 @@ pub struct Advice {
     pub allowed_families: Vec<Option<i32>>,
     /// Index into `runs` of the cheapest configuration within `tol` among allowed families.
     pub chosen: Option<usize>,
+    /// Families left out (their refinement failed), with why.
+    pub notes: Vec<String>,
 }
 
 impl Advice {
@@ -203,8 +208,9 @@ pub fn max_difference(samples: &[f64], answer: &[f64]) -> f64 {
 /// order is p = log₂ r and the answer y* = y₃ + (y₃ − y₂)/(r − 1) at every time point
 /// (Richardson 1911; the observed-order form, e.g. Roache, "Verification and Validation in
 /// Computational Science and Engineering", 1998, ch. 5). Returns (answer, order, uncertainty
-/// ‖y* − y₃‖∞, warning). Without observed convergence (r ≤ 1.1) the answer is the finest run
-/// and its uncertainty ‖y₃ − y₂‖∞.
+/// ‖y* − y₃‖∞, warning). Without observed convergence (r ≤ 1.1) the answer is the finest run,
+/// its uncertainty ‖y₃ − y₂‖∞, with a warning; an order below [`MIN_ORDER`] warns too (a
+/// family with a warning gets no advice).
 pub fn richardson(
     y1: &[f64],
     y2: &[f64],
@@ -222,7 +228,7 @@ pub fn richardson(
             None,
             d23,
             Some(format!(
-                "no convergence observed on the three finest levels (differences {d12:.3e} then {d23:.3e}): the answer is the finest run; add finer levels (--finer)"
+                "no convergence observed on the three finest levels (differences {d12:.3e} then {d23:.3e}): no advice; add finer levels (--finer) or keep the knob that does not converge (--keep)"
             )),
         );
     }
@@ -231,8 +237,18 @@ pub fn richardson(
         .zip(y2)
         .map(|(c, b)| c + (c - b) / (r - 1.0))
         .collect();
-    (answer, Some(r.log2()), d23 / (r - 1.0), None)
+    let p = r.log2();
+    let warning = (p < MIN_ORDER).then(|| {
+        format!(
+            "observed order {p:.2} is below {MIN_ORDER}: the finest levels are not in the asymptotic range, the extrapolation is not trusted and no advice is given; add finer levels (--finer) or keep the knob that does not converge (--keep)"
+        )
+    });
+    (answer, Some(p), d23 / (r - 1.0), warning)
 }
+
+/// The smallest observed order at which the extrapolated answer is trusted (below it the
+/// three finest runs are not in the asymptotic range and the advisor gives no advice).
+pub const MIN_ORDER: f64 = 0.5;
 
 /// The value of a knob at a ladder level for a base value.
 fn count_at(base: i32, min: i32, offset: i32) -> i32 {
@@ -281,11 +297,24 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
         ));
     }
     let defaults = ParamValues::defaults(&scene.params);
-    let knobs: Vec<Knob> = scene
+    let all: Vec<Knob> = scene
         .body
         .knobs()
         .into_iter()
         .filter(|k| defaults.get(k.param).is_some())
+        .collect();
+    for name in &opts.keep {
+        if !all.iter().any(|k| k.param == name) {
+            return Err(format!(
+                "--keep {name}: not a knob of scene `{}`; its knobs are: {}",
+                scene.model_name(),
+                all.iter().map(|k| k.param).collect::<Vec<_>>().join(", ")
+            ));
+        }
+    }
+    let knobs: Vec<Knob> = all
+        .into_iter()
+        .filter(|k| !opts.keep.iter().any(|n| n == k.param))
         .collect();
     let levels = opts.levels;
     let coarse = (levels - 1 - opts.finer) as i32;
@@ -339,13 +368,34 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
         }
     }
     let has_tolerance = knobs.iter().any(|k| k.role == KnobRole::Tolerance);
+    let has_count = knobs
+        .iter()
+        .any(|k| matches!(k.role, KnobRole::Count { .. }));
+    let has_step = knobs.iter().any(|k| k.role == KnobRole::Step);
+    if !has_count && !has_step {
+        return Err(
+            "nothing to refine: every count and the step are kept (--keep); Richardson extrapolation needs a ladder"
+                .into(),
+        );
+    }
+    // a knob kept at the scene's value has one level, which every refinement level shares
+    let mesh_levels = if has_count {
+        0..levels
+    } else {
+        levels - 1..levels
+    };
+    let step_levels = if has_step {
+        0..levels
+    } else {
+        levels - 1..levels
+    };
     let mut configs = Vec::new();
     for family in &families {
-        for m in 0..levels {
+        for m in mesh_levels.clone() {
             for (vi, variant) in variants.iter().enumerate() {
-                let steps = (0..levels).map(|s| (s, None));
+                let steps = step_levels.clone().map(|s| (s, None));
                 let adaptive = (0..levels)
-                    .filter(|_| has_tolerance && vi == 0)
+                    .filter(|_| has_tolerance && has_step && vi == 0)
                     .map(|k| (0, Some(k)));
                 for (s, tl) in steps.chain(adaptive) {
                     let mut values = Vec::new();
@@ -409,14 +459,15 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
     // each family's answer from its refinement path (mesh level = step level, scene variants,
     // fixed steps), three finest levels
     let mut answers = Vec::new();
-    for family in &families {
+    let mut dropped = Vec::new();
+    'family: for family in &families {
         let find = |l: usize| {
             runs.iter().position(|r| {
                 r.config.family == *family
                     && r.config.scene_variant
                     && r.config.tol_level.is_none()
-                    && r.config.mesh_level == l
-                    && r.config.step_level == l
+                    && (!has_count || r.config.mesh_level == l)
+                    && (!has_step || r.config.step_level == l)
             })
         };
         let path: Vec<usize> = (levels - 3..levels).filter_map(find).collect();
@@ -427,6 +478,15 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
         for &i in &path {
             match &runs[i].samples {
                 Ok(y) => ys.push(y.clone()),
+                Err(e) if !answers.is_empty() => {
+                    // another family than the scene's: left out of the advice, said why
+                    dropped.push(format!(
+                        "family {} left out: its refinement run {} failed: {e}",
+                        family.map(|f| f.to_string()).unwrap_or_default(),
+                        runs[i].config.label()
+                    ));
+                    continue 'family;
+                }
                 Err(e) => {
                     return Err(format!(
                         "the refinement run {} failed, so there is no converged answer{}: {e}",
@@ -448,6 +508,7 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
             warning,
         });
     }
+    runs.retain(|r| answers.iter().any(|a| a.family == r.config.family));
     for r in &mut runs {
         let a = answers
             .iter()
@@ -457,6 +518,22 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
             Ok(y) => max_difference(y, &a.answer),
             Err(_) => f64::INFINITY,
         };
+    }
+    // the path indices after dropping families' runs
+    for a in &mut answers {
+        let f = a.family;
+        for (slot, l) in a.path.iter_mut().zip(levels - 3..levels) {
+            *slot = runs
+                .iter()
+                .position(|r| {
+                    r.config.family == f
+                        && r.config.scene_variant
+                        && r.config.tol_level.is_none()
+                        && (!has_count || r.config.mesh_level == l)
+                        && (!has_step || r.config.step_level == l)
+                })
+                .expect("path runs kept");
+        }
     }
     let family_differences: Vec<(i32, f64)> = answers[1..]
         .iter()
@@ -473,8 +550,18 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
             allowed.push(Some(*f));
         }
     }
+    // only families whose answer is trusted (no warning) are advised
+    let trusted: Vec<Option<i32>> = answers
+        .iter()
+        .filter(|a| a.warning.is_none())
+        .map(|a| a.family)
+        .collect();
     let chosen = (0..runs.len())
-        .filter(|&i| runs[i].error <= opts.tol && allowed.contains(&runs[i].config.family))
+        .filter(|&i| {
+            runs[i].error <= opts.tol
+                && allowed.contains(&runs[i].config.family)
+                && trusted.contains(&runs[i].config.family)
+        })
         .min_by(|&a, &b| runs[a].wall.total_cmp(&runs[b].wall));
     Ok(Advice {
         output: opts.output.clone(),
@@ -487,6 +574,7 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
         family_differences,
         allowed_families: allowed,
         chosen,
+        notes: dropped,
     })
 }
 
@@ -600,4 +688,27 @@ pub fn run_one(
         Ok(y)
     })();
     (samples, wall)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Synthetic runs y_h(t) = sin t + C(t) h^2 with h = 1, 1/2, 1/4: the observed order is 2
+    /// and the extrapolation recovers sin t (to rounding).
+    #[test]
+    fn richardson_recovers_a_second_order_limit() {
+        let t: Vec<f64> = (0..50).map(|i| i as f64 * 0.1).collect();
+        let run = |h: f64| -> Vec<f64> { t.iter().map(|t| t.sin() + (1.0 + t) * h * h).collect() };
+        let (y, p, unc, warn) = richardson(&run(1.0), &run(0.5), &run(0.25));
+        assert!(warn.is_none());
+        assert!((p.unwrap() - 2.0).abs() < 1e-12, "{p:?}");
+        let exact: Vec<f64> = t.iter().map(|t| t.sin()).collect();
+        assert!(max_difference(&y, &exact) < 1e-12);
+        // the finest run's error is (1 + 4.9)/16
+        assert!((unc - 5.9 / 16.0).abs() < 1e-12, "{unc}");
+        // no convergence: a warning
+        let (_, p, _, warn) = richardson(&run(0.25), &run(0.5), &run(1.0));
+        assert!(p.is_none() && warn.is_some());
+    }
 }

@@ -113,11 +113,15 @@ enum Cmd {
         /// How many levels are finer than the scene's own values.
         #[arg(long, default_value_t = 1)]
         finer: usize,
+        /// Knob to keep at the scene's value instead of studying it (a parameter name such as
+        /// solver.integrator); repeatable.
+        #[arg(long)]
+        keep: Vec<String>,
         /// Worker threads (default: the cores, at most 2).
         #[arg(long)]
         jobs: Option<usize>,
         /// Advised scene file (default: <scene>_advised.toml); the table and plot are
-        /// written next to it as <name>.csv and <name>.svg.
+        /// written next to it as <name>_table.csv and <name>_pareto.svg.
         #[arg(short = 'o', long = "out")]
         out: Option<PathBuf>,
     },
@@ -231,6 +235,7 @@ fn run(cli: Cli) -> Result<(), String> {
             allow_element_change,
             levels,
             finer,
+            keep,
             jobs,
             out,
         } => {
@@ -240,6 +245,7 @@ fn run(cli: Cli) -> Result<(), String> {
             opts.allow_element_change = allow_element_change;
             opts.levels = levels;
             opts.finer = finer;
+            opts.keep = keep;
             if let Some(j) = jobs {
                 opts.jobs = j;
             }
@@ -261,7 +267,18 @@ fn run(cli: Cli) -> Result<(), String> {
             let write = |p: &std::path::Path, text: &str| {
                 std::fs::write(p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
             };
-            let (csv, svg) = (out.with_extension("csv"), out.with_extension("svg"));
+            if out == scene {
+                return Err(format!(
+                    "-o {}: the advised scene would overwrite the original",
+                    out.display()
+                ));
+            }
+            let stem = out
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("advised");
+            let csv = out.with_file_name(format!("{stem}_table.csv"));
+            let svg = out.with_file_name(format!("{stem}_pareto.svg"));
             write(&csv, &report::csv(&advice))?;
             write(&svg, &report::pareto_svg(&advice))?;
             println!("{}", report::markdown(&advice));
