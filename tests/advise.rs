@@ -96,6 +96,29 @@ fn pendulum_advice_is_checkable() {
     check_advice(&scene, &opts, &a);
 }
 
+/// Pendulum with both element families (race: seed 000 against the ANCF cable): each family
+/// against its own converged answer; the difference between the answers decides whether the
+/// family may change; with `--allow-element-change` the advice may be the cable, and the
+/// advised scene (the seed-000 options removed) meets TOL on its own.
+#[test]
+fn pendulum_element_families() {
+    let scene = common::scene("pendulum");
+    let mut opts = options("tip.y", 2e-3, 3, 1);
+    opts.stop_time = Some(0.3);
+    let a = advise(&scene, &opts).unwrap();
+    assert_eq!(a.families.len(), 2);
+    let (code, diff) = a.family_differences[0];
+    assert_eq!(code, 2);
+    println!("pendulum: converged tip.y of seed 000 and cable differ by {diff:.3e} m over 0.3 s");
+    assert_eq!(a.allowed_families.contains(&Some(2)), diff <= opts.tol);
+    let chosen = a.runs[a.chosen.unwrap()].config.family;
+    assert!(a.allowed_families.contains(&chosen));
+    opts.allow_element_change = true;
+    let b = advise(&scene, &opts).unwrap();
+    assert!(b.allowed_families.contains(&Some(2)));
+    check_advice(&scene, &opts, &b);
+}
+
 /// Cantilever (seed 000, Problem 2) under a tip force ramp from the inputs CSV, tip.y to
 /// 0.2 mm over 0.05 s.
 #[test]

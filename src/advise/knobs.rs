@@ -50,6 +50,9 @@ pub struct Knob {
     pub role: KnobRole,
     /// Where the advised scene file sets it.
     pub key: SceneKey,
+    /// Keys `(code, table, key)` the advised scene file must not have when the knob takes
+    /// `code` (options of one family that another family's scene check rejects).
+    pub drops: &'static [(i32, &'static str, &'static str)],
 }
 
 impl Knob {
@@ -64,7 +67,14 @@ impl Knob {
                 key,
                 names: None,
             },
+            drops: &[],
         }
+    }
+
+    /// The same knob, removing `drops` from the advised scene for the given codes.
+    pub fn dropping(mut self, drops: &'static [(i32, &'static str, &'static str)]) -> Self {
+        self.drops = drops;
+        self
     }
 
     /// The same knob written at `[table] key`, by name from `names` when given.

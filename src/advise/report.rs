@@ -2,7 +2,7 @@
 //! Pareto plot (SVG, error against wall time per simulated second, log-log) and the summary
 //! (the converged answers with their order and extrapolation, the families' difference).
 
-use super::scene_edit::{literal, set_key};
+use super::scene_edit::{literal, remove_key, set_key};
 use super::study::{Advice, show};
 use crate::scene::{ParamValues, Scene};
 use std::fmt::Write;
@@ -169,6 +169,11 @@ pub fn advised_scene(scene: &Scene, a: &Advice) -> Result<String, String> {
     let mut text = scene.text.clone();
     for (k, (_, v)) in a.knobs.iter().zip(&r.config.values) {
         text = set_key(&text, k.key.table, k.key.key, &literal(&k.key, *v)?);
+        for (code, table, key) in k.drops {
+            if *v == crate::variables::Value::Integer(*code) {
+                text = remove_key(&text, table, key);
+            }
+        }
     }
     let header = format!(
         "# flexfmu advise --output {} --tol {:e}: {} (error {:.3e} over {} s against the converged answer)\n",

@@ -61,6 +61,31 @@ pub fn set_key(text: &str, table: &str, key: &str, literal: &str) -> String {
     out
 }
 
+/// `text` without the line `[table] key = ...` (unchanged when there is none).
+pub fn remove_key(text: &str, table: &str, key: &str) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let Some(start) = lines.iter().position(|l| header(l) == Some(table)) else {
+        return text.to_string();
+    };
+    let end = (start + 1..lines.len())
+        .find(|&i| lines[i].trim_start().starts_with('['))
+        .unwrap_or(lines.len());
+    let mut out: Vec<&str> = Vec::with_capacity(lines.len());
+    for (i, l) in lines.iter().enumerate() {
+        let t = l.trim_start();
+        let hit = i > start
+            && i < end
+            && t.strip_prefix(key)
+                .is_some_and(|rest| rest.trim_start().starts_with('='));
+        if !hit {
+            out.push(l);
+        }
+    }
+    let mut s = out.join("\n");
+    s.push('\n');
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -77,6 +102,8 @@ mod tests {
         );
         let c = set_key(&b, "element", "type", "\"ancf_cable_2d\"");
         assert!(c.ends_with("[element]\ntype = \"ancf_cable_2d\"\n"), "{c}");
+        let e = remove_key(&a, "mesh", "n_elements");
+        assert!(e.starts_with("[mesh]\n\n[solver]"), "{e}");
         // a key of the same name in another table is left alone
         let d = set_key(text, "solver", "name", "\"x\"");
         assert!(d.contains("[[probes]]\nname = \"tip\""), "{d}");

@@ -349,10 +349,41 @@ pub fn smoke_test(s: &Beam2dScene) -> crate::ls_ref::SmokeTest {
     SmokeTest::default()
 }
 
-/// The knobs `flexfmu advise` varies: the element count (at least 1) and the solver knobs.
+/// `element.type` codes by scene name ([`super::Beam2dElementType::ALL`]), as the advised
+/// scene writes them.
+const ELEMENT_TYPES: &[(&str, i32)] = &[("ancf_shear_2d", 1), ("ancf_cable_2d", 2)];
+
+/// The knobs `flexfmu advise` varies: the element family (`element.type`: the seed-000
+/// element and the cable converge to different answers; the seed-000 options are removed from
+/// a scene advised to use the cable), the element count (at least 1) and the solver knobs.
 pub fn knobs(_s: &Beam2dScene) -> Vec<crate::advise::Knob> {
     use crate::advise::{Knob, KnobRole, solver_knobs};
-    let mut k = vec![Knob::new(MESH_N_ELEMENTS, KnobRole::Count { min: 1 })];
+    let mut k = vec![
+        Knob::new(ELEMENT_TYPE, KnobRole::Family(&[1, 2]))
+            .at("element", "type", Some(ELEMENT_TYPES))
+            .dropping(&[
+                (2, "element", "shear_rule"),
+                (2, "element", "strain_energy"),
+                (2, "element", "shear_coefficient"),
+            ]),
+        Knob::new(MESH_N_ELEMENTS, KnobRole::Count { min: 1 }),
+    ];
     k.extend(solver_knobs());
     k
+}
+
+#[cfg(test)]
+mod advise_tests {
+    use super::*;
+
+    #[test]
+    fn element_type_names_match_the_scene_enum() {
+        for (t, name, code) in super::super::Beam2dElementType::ALL {
+            assert!(ELEMENT_TYPES.contains(&(name, code)), "{t:?}");
+        }
+        assert_eq!(
+            ELEMENT_TYPES.len(),
+            super::super::Beam2dElementType::ALL.len()
+        );
+    }
 }
