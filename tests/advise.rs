@@ -246,3 +246,85 @@ fn inputs_csv_problems_are_named() {
     assert_eq!(s.at(0, 0.25), (2.5, 10.0));
     assert_eq!(s.at(0, 2.0), (10.0, 0.0));
 }
+
+/// The command line: files written next to the advised scene, the markdown table and the
+/// summary printed, a clear failure for an unknown output.
+#[test]
+fn cli_writes_scene_table_and_plot() {
+    let exe = env!("CARGO_BIN_EXE_flexfmu");
+    let dir = std::env::temp_dir().join(format!("flexfmu_advise_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("pendulum_fast.toml");
+    let scene = common::scene_path("pendulum");
+    let args = [
+        "advise",
+        scene.to_str().unwrap(),
+        "--output",
+        "tip.y",
+        "--tol",
+        "5e-3",
+        "--stop-time",
+        "0.1",
+        "--levels",
+        "3",
+        "--jobs",
+        "1",
+        "--keep",
+        "solver.integrator",
+        "--keep",
+        "solver.tolerance",
+        "--keep",
+        "element.type",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    let r = std::process::Command::new(exe).args(args).output().unwrap();
+    let stdout = String::from_utf8_lossy(&r.stdout);
+    assert!(
+        r.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    assert!(
+        stdout.contains("| configuration | family | error |"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("observed order p = log2 r"), "{stdout}");
+    assert!(
+        String::from_utf8_lossy(&r.stderr).contains("advise: ["),
+        "progress bar"
+    );
+    let advised = Scene::from_path(&out).unwrap();
+    assert_eq!(advised.model_name(), "pendulum");
+    let csv = std::fs::read_to_string(dir.join("pendulum_fast_table.csv")).unwrap();
+    assert!(
+        csv.starts_with("configuration,family,mesh.n_elements,solver.max_step,error,"),
+        "{csv}"
+    );
+    assert_eq!(
+        csv.lines()
+            .filter(|l| l.contains(",true,") && l.ends_with(",true,"))
+            .count(),
+        1,
+        "one chosen row\n{csv}"
+    );
+    let svg = std::fs::read_to_string(dir.join("pendulum_fast_pareto.svg")).unwrap();
+    assert!(
+        svg.starts_with("<svg") && svg.contains("<polyline"),
+        "{svg}"
+    );
+    let r = std::process::Command::new(exe)
+        .args([
+            "advise",
+            scene.to_str().unwrap(),
+            "--output",
+            "nope",
+            "--tol",
+            "1e-3",
+        ])
+        .output()
+        .unwrap();
+    assert!(!r.status.success());
+    assert!(String::from_utf8_lossy(&r.stderr).contains("its outputs are: tip.x, tip.y"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -444,7 +444,24 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
     }
     let configs = unique;
 
-    let results = run_all(scene, &configs, output, &times, opts)?;
+    // each family runs on its own scene file (the family key set, the other family's options
+    // removed), so that the kind's scene checks and table-driven model choices apply; a family
+    // whose scene is refused is left out with the reason
+    let mut dropped = Vec::new();
+    let mut scenes: Vec<(Option<i32>, Scene)> = vec![(scene_family, scene.clone())];
+    for f in families.iter().skip(1) {
+        let code = f.expect("other families have codes");
+        match family_scene(scene, &knobs, code) {
+            Ok(sc) => scenes.push((*f, sc)),
+            Err(e) => dropped.push(format!("family {code} left out: {e}")),
+        }
+    }
+    let families: Vec<Option<i32>> = scenes.iter().map(|(f, _)| *f).collect();
+    let configs: Vec<Config> = configs
+        .into_iter()
+        .filter(|c| families.contains(&c.family))
+        .collect();
+    let results = run_all(&scenes, &configs, output, &times, opts)?;
     let mut runs: Vec<Run> = configs
         .into_iter()
         .zip(results)
@@ -459,7 +476,6 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
     // each family's answer from its refinement path (mesh level = step level, scene variants,
     // fixed steps), three finest levels
     let mut answers = Vec::new();
-    let mut dropped = Vec::new();
     'family: for family in &families {
         let find = |l: usize| {
             runs.iter().position(|r| {
@@ -578,11 +594,35 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
     })
 }
 
+/// The scene of family `code`: the scene's text with the family knob set to `code` (and the
+/// keys it drops removed), parsed and checked.
+pub fn family_scene(scene: &Scene, knobs: &[Knob], code: i32) -> Result<Scene, String> {
+    use super::scene_edit::{literal, remove_key, set_key};
+    let mut text = scene.text.clone();
+    for k in knobs
+        .iter()
+        .filter(|k| matches!(k.role, KnobRole::Family(_)))
+    {
+        text = set_key(
+            &text,
+            k.key.table,
+            k.key.key,
+            &literal(&k.key, Value::Integer(code))?,
+        );
+        for (c, table, key) in k.drops {
+            if *c == code {
+                text = remove_key(&text, table, key);
+            }
+        }
+    }
+    Scene::from_toml(&text).map_err(|e| format!("its scene is refused: {}", e.0))
+}
+
 /// Runs every configuration on `opts.jobs` threads (largest estimated cost first), with a
 /// progress bar on stderr; returns (samples or failure, wall time of the stepping) by index.
 #[allow(clippy::type_complexity)]
 fn run_all(
-    scene: &Scene,
+    scenes: &[(Option<i32>, Scene)],
     configs: &[Config],
     output: usize,
     times: &[f64],
@@ -627,6 +667,11 @@ fn run_all(
                 loop {
                     let k = next.fetch_add(1, Ordering::SeqCst);
                     let Some(&i) = order.get(k) else { break };
+                    let scene = scenes
+                        .iter()
+                        .find(|(f, _)| *f == configs[i].family)
+                        .map(|(_, s)| s)
+                        .expect("a scene per family");
                     let r = run_one(scene, &configs[i], output, times, opts.inputs.as_ref());
                     results.lock().expect("no panics while locked")[i] = Some(r);
                     progress(done.fetch_add(1, Ordering::SeqCst) + 1);
