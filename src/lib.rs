@@ -15,6 +15,7 @@
 // Numeric kernels index several arrays with one loop variable; iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
 
+pub mod advise;
 pub mod assembly;
 pub mod cli;
 pub mod contact;

@@ -2,6 +2,7 @@
 #![deny(unsafe_code)]
 
 use clap::{Parser, Subcommand};
+use flexfmu::advise::{AdviseOptions, Signals, advise, report};
 use flexfmu::cli::check_path;
 use flexfmu::model_description::model_description;
 use flexfmu::packaging::{
@@ -107,6 +108,47 @@ enum Cmd {
         /// No progress on stderr.
         #[arg(long, short)]
         quiet: bool,
+    },
+    /// Advise the cheapest configuration of a scene (element family, element count,
+    /// integrator, internal step, adaptive tolerance, contact points) whose error on one output
+    /// stays within TOL over the run, from a convergence study with Richardson extrapolation;
+    /// writes the advised scene, the table (CSV) and a Pareto plot (SVG).
+    Advise {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// The output whose error counts (e.g. tip.y).
+        #[arg(long)]
+        output: String,
+        /// Admissible error on that output, max over the run, in its unit.
+        #[arg(long)]
+        tol: f64,
+        /// End of the run [s] (default: the scene's stop time).
+        #[arg(long)]
+        stop_time: Option<f64>,
+        /// Input signals: CSV with a `time` column and one column per scene input.
+        #[arg(long)]
+        inputs: Option<PathBuf>,
+        /// Allow another element family even when the families' converged answers differ by
+        /// more than TOL.
+        #[arg(long)]
+        allow_element_change: bool,
+        /// Refinement levels per ladder (at least 3).
+        #[arg(long, default_value_t = 4)]
+        levels: usize,
+        /// How many levels are finer than the scene's own values.
+        #[arg(long, default_value_t = 1)]
+        finer: usize,
+        /// Knob to keep at the scene's value instead of studying it (a parameter name such as
+        /// solver.integrator); repeatable.
+        #[arg(long)]
+        keep: Vec<String>,
+        /// Worker threads (default: the cores, at most 2).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Advised scene file (default: <scene>_advised.toml); the table and plot are
+        /// written next to it as <name>_table.csv and <name>_pareto.svg.
+        #[arg(short = 'o', long = "out")]
+        out: Option<PathBuf>,
     },
 }
 
@@ -218,6 +260,68 @@ fn run(cli: Cli) -> Result<(), String> {
             plan,
             quiet,
         } => sweep_command(sweep, output, threads, chunk, merge, plan, quiet)?,
+        Cmd::Advise {
+            scene,
+            output,
+            tol,
+            stop_time,
+            inputs,
+            allow_element_change,
+            levels,
+            finer,
+            keep,
+            jobs,
+            out,
+        } => {
+            let sc = Scene::from_path(&scene).map_err(|e| e.0)?;
+            let mut opts = AdviseOptions::new(&output, tol);
+            opts.stop_time = stop_time;
+            opts.allow_element_change = allow_element_change;
+            opts.levels = levels;
+            opts.finer = finer;
+            opts.keep = keep;
+            if let Some(j) = jobs {
+                opts.jobs = j;
+            }
+            if let Some(path) = inputs {
+                let text = std::fs::read_to_string(&path)
+                    .map_err(|e| format!("cannot read inputs {}: {e}", path.display()))?;
+                opts.inputs = Some(
+                    Signals::parse(&text, &sc).map_err(|e| format!("{}: {e}", path.display()))?,
+                );
+            }
+            let advice = advise(&sc, &opts)?;
+            let out = out.unwrap_or_else(|| {
+                let stem = scene
+                    .file_stem()
+                    .and_then(|s| s.to_str())
+                    .unwrap_or("scene");
+                PathBuf::from(format!("{stem}_advised.toml"))
+            });
+            let write = |p: &std::path::Path, text: &str| {
+                std::fs::write(p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
+            };
+            if out == scene {
+                return Err(format!(
+                    "-o {}: the advised scene would overwrite the original",
+                    out.display()
+                ));
+            }
+            let stem = out
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("advised");
+            let csv = out.with_file_name(format!("{stem}_table.csv"));
+            let svg = out.with_file_name(format!("{stem}_pareto.svg"));
+            write(&csv, &report::csv(&advice))?;
+            write(&svg, &report::pareto_svg(&advice))?;
+            println!("{}", report::markdown(&advice));
+            print!("{}", report::summary(&advice));
+            println!("wrote {} and {}", csv.display(), svg.display());
+            let text = report::advised_scene(&sc, &advice)?;
+            write(&out, &text)?;
+            println!("wrote {}", out.display());
+        }
         Cmd::Check { scenes } => {
             for path in scenes {
                 let summary = check_path(&path)?;

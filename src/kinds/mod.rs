@@ -24,7 +24,8 @@ macro_rules! body_kind {
             $(, presets: |$ps:ident| $presets:expr)?
             $(, smoke_test: |$sm:ident| $smoke:expr)?
             $(, initial_state: $istate:expr)?
-            $(, build_to_restore: |$rs:ident, $rp:ident| $rbuild:expr)? $(,)?
+            $(, build_to_restore: |$rs:ident, $rp:ident| $rbuild:expr)?
+            $(, knobs: |$kn:ident| $knobs:expr)? $(,)?
         }
     ) => {
         body_kind! {
@@ -40,6 +41,7 @@ macro_rules! body_kind {
                 $(, smoke_test: |$sm| $smoke)?
                 $(, initial_state: $istate)?
                 $(, build_to_restore: |$rs, $rp| $rbuild)?
+                $(, knobs: |$kn| $knobs)?
             }
         }
     };
@@ -55,7 +57,8 @@ macro_rules! body_kind {
             $(, presets: |$ps:ident| $presets:expr)?
             $(, smoke_test: |$sm:ident| $smoke:expr)?
             $(, initial_state: $istate:expr)?
-            $(, build_to_restore: |$rs:ident, $rp:ident| $rbuild:expr)? $(,)?
+            $(, build_to_restore: |$rs:ident, $rp:ident| $rbuild:expr)?
+            $(, knobs: |$kn:ident| $knobs:expr)? $(,)?
         }
     ) => {
         $(#[$doc])*
@@ -144,6 +147,13 @@ macro_rules! body_kind {
             $(
                 fn initial_state(&self) -> Option<&'static str> {
                     $istate
+                }
+            )?
+
+            $(
+                fn knobs(&self) -> Vec<$crate::advise::Knob> {
+                    let $kn = self;
+                    $knobs
                 }
             )?
         }
@@ -257,6 +267,13 @@ pub trait KindScene: Debug + Send + Sync + Any {
     /// parameters), and what that state is; `None` (the default): it does not.
     fn initial_state(&self) -> Option<&'static str> {
         None
+    }
+
+    /// The parameters `flexfmu advise` varies in its convergence study (element family,
+    /// counts, integrator, steps, tolerances: [`crate::advise::Knob`]); by default the solver
+    /// knobs every kind has.
+    fn knobs(&self) -> Vec<crate::advise::Knob> {
+        crate::advise::solver_knobs()
     }
 }
 

@@ -5,7 +5,7 @@
 //!
 //! Scene files without a `kind` key (written before it existed) keep working: the kind is
 //! then the one whose old rule matches (`[belt]` or `[[pulley]]`: `belt_drive`; element type
-//! `"ancf_shear_2d"`: `beam_2d`; `"corotational_3d"`: `beam_3d`).
+//! `"ancf_shear_2d"` or `"ancf_cable_2d"` without belt tables: `beam_2d`; `"corotational_3d"`: `beam_3d`).
 
 pub mod params;
 pub mod tables;
@@ -66,7 +66,7 @@ fn select_kind(tables: &toml::Table) -> Result<&'static dyn BodyKind, String> {
                 _ => Err(match kinds::legacy_element_type(tables) {
                     Some("ancf_cable_2d") => "element type \"ancf_cable_2d\" is the belt element: add [belt], [contact] and [[pulley]] tables (or kind = \"belt_drive\")".to_string(),
                     _ => format!(
-                        "kind: missing, and the tables do not say which kind (files without the key give [element] type = \"ancf_shear_2d\" for beam_2d or \"corotational_3d\" for beam_3d, or [belt] and [[pulley]] tables for belt_drive); name the body kind with a top-level key kind = one of {}",
+                        "kind: missing, and the tables do not say which kind (files without the key give [element] type = \"ancf_shear_2d\" or \"ancf_cable_2d\" for beam_2d or \"corotational_3d\" for beam_3d, or [belt] and [[pulley]] tables for belt_drive); name the body kind with a top-level key kind = one of {}",
                         kinds::names()
                     ),
                 }),

@@ -23,6 +23,9 @@ pub mod names {
     pub const GEOMETRY_HEIGHT: &str = "geometry.height";
     /// Element count (Integer).
     pub const MESH_N_ELEMENTS: &str = "mesh.n_elements";
+    /// Element family of a planar beam (Integer: 1 = seed-000 shear-deformable ANCF, 2 = ANCF
+    /// cable).
+    pub const ELEMENT_TYPE: &str = "element.type";
     /// Shear integration rule (Integer: 1 = 1x1, 2 = 1x2).
     pub const ELEMENT_SHEAR_RULE: &str = "element.shear_rule";
     /// Strain-energy form (Integer: 1 = Eq. 12, 2 = Lamé).

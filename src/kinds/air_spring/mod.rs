@@ -49,6 +49,7 @@ body_kind! {
         legacy: |_t| false,
         presets: |s| scene::presets(s),
         smoke_test: |s| scene::smoke_test(s),
+        knobs: |s| scene::knobs(s),
     }
 }
 

@@ -999,3 +999,19 @@ pub fn smoke_test(_s: &AirSpringScene) -> crate::ls_ref::SmokeTest {
         },
     ])
 }
+
+/// The knobs `flexfmu advise` varies: the fidelity level (a family: the shell, the
+/// axisymmetric membrane and the effective-area table converge to different answers; a level
+/// whose scene lacks its tables is left out with the reason), the meridional and
+/// circumferential element counts (together by level; even counts stay even) and the solver
+/// knobs.
+pub fn knobs(_s: &AirSpringScene) -> Vec<crate::advise::Knob> {
+    use crate::advise::{Knob, KnobRole, solver_knobs};
+    let mut k = vec![
+        Knob::new(MODEL_FIDELITY, KnobRole::Family(&[1, 2, 3])),
+        Knob::new(MESH_N_MERIDIONAL, KnobRole::Count { min: 4 }),
+        Knob::new(MESH_N_CIRCUMFERENTIAL, KnobRole::Count { min: 4 }),
+    ];
+    k.extend(solver_knobs());
+    k
+}

@@ -1,5 +1,6 @@
 //! Kind `beam_2d`: a straight planar beam of seed-000 shear-deformable ANCF elements
-//! (Kerkkänen, Sopanen & Mikkola 2003) with supports, point loads, motion ports and probes.
+//! (Kerkkänen, Sopanen & Mikkola 2003) or of gradient-deficient ANCF cable elements
+//! (Euler–Bernoulli, cubic; `element.type`), with supports, point loads, motion ports and probes.
 //! Scene tables here, declarations in [`scene`], the model in [`model`].
 
 pub mod model;
@@ -19,10 +20,12 @@ body_kind! {
         tables: Beam2dScene,
         model: Beam2d,
         name: "beam_2d",
-        summary: "straight planar beam of seed-000 shear-deformable ANCF elements",
+        summary: "straight planar beam of seed-000 shear-deformable ANCF elements or ANCF cable elements",
         validation: include_str!("validation.txt"),
-        legacy: |t| legacy_element_type(t) == Some("ancf_shear_2d") && !legacy_has_belt(t),
+        legacy: |t| matches!(legacy_element_type(t), Some("ancf_shear_2d" | "ancf_cable_2d"))
+            && !legacy_has_belt(t),
         smoke_test: |s| scene::smoke_test(s),
+        knobs: |s| scene::knobs(s),
     }
 }
 
@@ -73,52 +76,86 @@ pub struct Beam2dScene {
     pub initial: Option<InitialSection>,
 }
 
-/// The element of a planar beam (one so far).
+/// The element of a planar beam: the scene key `[element] type` (a string) and the start value
+/// of the Integer parameter `element.type` ([`Beam2dElementType::code`]).
 #[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 pub enum Beam2dElementType {
-    /// Seed 000: linear shear-deformable 2D ANCF beam (4 coordinates per node).
+    /// `element.type = 1`: seed 000, the linear shear-deformable 2D ANCF beam of Kerkkänen,
+    /// Sopanen & Mikkola 2003 (4 coordinates per node: position and cross-section gradient).
     #[default]
     #[serde(rename = "ancf_shear_2d")]
     AncfShear2d,
+    /// `element.type = 2`: the gradient-deficient ANCF cable (Euler–Bernoulli, cubic Hermite
+    /// interpolation, 4 coordinates per node: position and axial slope;
+    /// `src/elements/ancf_cable2d.rs`).
+    #[serde(rename = "ancf_cable_2d")]
+    AncfCable2d,
 }
 
-/// `[element]` of a planar beam.
-#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+impl Beam2dElementType {
+    /// Every element type with its scene string and its value of `element.type`.
+    pub const ALL: [(Self, &'static str, i32); 2] = [
+        (Self::AncfShear2d, "ancf_shear_2d", 1),
+        (Self::AncfCable2d, "ancf_cable_2d", 2),
+    ];
+
+    /// The value of the Integer parameter `element.type`.
+    pub fn code(self) -> i32 {
+        Self::ALL
+            .iter()
+            .find(|(t, _, _)| *t == self)
+            .map_or(1, |e| e.2)
+    }
+
+    /// The element type of a value of `element.type` (`None` outside 1..=2).
+    pub fn from_code(code: i32) -> Option<Self> {
+        Self::ALL.iter().find(|e| e.2 == code).map(|e| e.0)
+    }
+
+    /// The scene string (`[element] type = "..."`).
+    pub fn scene_name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(t, _, _)| *t == self)
+            .map_or("", |e| e.1)
+    }
+}
+
+/// `[element]` of a planar beam. The seed-000 options (`shear_rule`, `strain_energy`,
+/// `shear_coefficient`) may be given only with `type = "ancf_shear_2d"` (the cable has no
+/// shear); omitted, they take their defaults (the start values of their parameters).
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Beam2dElement {
     /// Element family.
     #[serde(rename = "type", default)]
     pub element_type: Beam2dElementType,
-    /// 1 = original 1x1 shear integration, 2 = the 1x2 fix (default).
-    #[serde(default = "default_shear_rule")]
-    pub shear_rule: i32,
-    /// 1 = Eq. 12 (default), 2 = Lamé form of Eqs. 10–11.
-    #[serde(default = "default_strain_energy")]
-    pub strain_energy: i32,
-    /// Shear correction factor k_s of Eq. 12.
-    #[serde(default = "default_shear_coefficient")]
-    pub shear_coefficient: f64,
+    /// 1 = original 1x1 shear integration, 2 = the 1x2 fix (default). Seed-000 element only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_rule: Option<i32>,
+    /// 1 = Eq. 12 (default), 2 = Lamé form of Eqs. 10–11. Seed-000 element only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strain_energy: Option<i32>,
+    /// Shear correction factor k_s of Eq. 12 (default 5/6). Seed-000 element only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_coefficient: Option<f64>,
 }
 
-impl Default for Beam2dElement {
-    fn default() -> Self {
-        Self {
-            element_type: Beam2dElementType::AncfShear2d,
-            shear_rule: default_shear_rule(),
-            strain_energy: default_strain_energy(),
-            shear_coefficient: default_shear_coefficient(),
-        }
+impl Beam2dElement {
+    /// `shear_rule`, or its default 2 (the 1x2 fix).
+    pub fn shear_rule(&self) -> i32 {
+        self.shear_rule.unwrap_or(2)
     }
-}
 
-fn default_shear_rule() -> i32 {
-    2
-}
-fn default_strain_energy() -> i32 {
-    1
-}
-fn default_shear_coefficient() -> f64 {
-    5.0 / 6.0
+    /// `strain_energy`, or its default 1 (Eq. 12).
+    pub fn strain_energy(&self) -> i32 {
+        self.strain_energy.unwrap_or(1)
+    }
+
+    /// `shear_coefficient`, or its default 5/6.
+    pub fn shear_coefficient(&self) -> f64 {
+        self.shear_coefficient.unwrap_or(5.0 / 6.0)
+    }
 }
 
 /// `[geometry]`: a straight rectangular beam.

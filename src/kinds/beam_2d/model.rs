@@ -1,7 +1,11 @@
-//! A straight planar beam meshed with seed-000 elements: supports, point loads, gravity,
-//! probes and energies.
+//! A straight planar beam meshed with seed-000 shear-deformable ANCF elements or with ANCF
+//! cable elements (`element.type`): supports, point loads, gravity, probes and energies. Both
+//! elements have 4 coordinates per node, the position first (seed 000: position and
+//! cross-section gradient `r_y`; cable: position and axial slope `r'`), so the mesh, the
+//! supports of positions, the loads, probes and motion ports share one numbering.
 
 use crate::assembly::{Assembly, DofMap, ElementSet, Eval, check_finite};
+use crate::elements::ancf_cable2d::{self, AncfCable2d, CableRule, CableSection};
 use crate::elements::ancf_shear2d::{
     ELEMENT_COORDS, ElemMat, ElemVec, NODE_COORDS, Section, Shear2dElement, ShearRule,
 };
@@ -9,8 +13,8 @@ use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::elements::{Element, ElementState};
 use crate::integrators::DynState;
 use crate::kinds::KindIo;
-use crate::kinds::beam_2d::Beam2dScene;
 use crate::kinds::beam_2d::scene::{Input, Output, io};
+use crate::kinds::beam_2d::{Beam2dElementType, Beam2dScene};
 use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
 use crate::meshers::stations::{ElementPoint, Stations};
@@ -21,29 +25,43 @@ use crate::scene::params::{ParamValues, names::*};
 use crate::scene::tables::{Axis, ProbeQuantity, SupportKind};
 use crate::snapshot::{StateReader, StateWriter};
 use nalgebra::{Vector2, Vector3};
+use std::sync::Arc;
 
-/// Interpolation of a centre-line point: nodes `a`, `a + 1` with weights `1 − ξ`, `ξ` on their
-/// positions (the gradient terms vanish at y = 0).
+/// The element of every element of the mesh (one shared element: the mesh is uniform).
+type PlanarElement = Arc<dyn Element<ELEMENT_COORDS>>;
+
+/// Interpolation of a centre-line point of element `e` at `ξ = x/L_e`: weights on the x
+/// coordinates of the element's nodes (y is the next index). Seed 000: nodes `e`, `e + 1` with
+/// `1 − ξ`, `ξ` on their positions (the gradient terms vanish at y = 0; Kerkkänen et al. 2003,
+/// Eq. 3). Cable: the cubic Hermite functions `S1..S4` on `r_e, r'_e, r_{e+1}, r'_{e+1}`
+/// (`ancf_cable2d::shape_functions`). A point load `F` is `Sᵀ F` with the same weights.
 #[derive(Clone, Copy, Debug)]
 struct PointMap {
-    node: usize,
-    xi: f64,
+    weights: [(usize, f64); 4],
+    len: usize,
 }
 
 impl PointMap {
-    fn new(p: ElementPoint) -> Self {
-        Self {
-            node: p.element,
-            xi: p.xi,
+    fn new(p: ElementPoint, element: Beam2dElementType, le: f64) -> Self {
+        let (a, b) = (p.element * NODE_COORDS, (p.element + 1) * NODE_COORDS);
+        match element {
+            Beam2dElementType::AncfShear2d => Self {
+                weights: [(a, 1.0 - p.xi), (b, p.xi), (0, 0.0), (0, 0.0)],
+                len: 2,
+            },
+            Beam2dElementType::AncfCable2d => {
+                let s = ancf_cable2d::shape_functions(le, p.xi * le);
+                Self {
+                    weights: [(a, s[0]), (a + 2, s[1]), (b, s[2]), (b + 2, s[3])],
+                    len: 4,
+                }
+            }
         }
     }
 
     /// `(full index, weight)` of the x component; y is the next index.
-    fn weights(&self) -> [(usize, f64); 2] {
-        [
-            (self.node * NODE_COORDS, 1.0 - self.xi),
-            ((self.node + 1) * NODE_COORDS, self.xi),
-        ]
+    fn weights(&self) -> &[(usize, f64)] {
+        &self.weights[..self.len]
     }
 
     fn eval(&self, full: &[f64], axis: usize) -> f64 {
@@ -51,11 +69,13 @@ impl PointMap {
     }
 }
 
-/// The seed-000 beam model.
+/// The planar beam model.
 #[derive(Clone, Debug)]
 pub struct Beam2d {
     length: f64,
-    set: ElementSet<Shear2dElement, ELEMENT_COORDS>,
+    /// Element family (`element.type`).
+    element: Beam2dElementType,
+    set: ElementSet<PlanarElement, ELEMENT_COORDS>,
     asm: Assembly,
     gravity_full: Vec<f64>,
     q0: Vec<f64>,
@@ -87,6 +107,8 @@ impl Beam2d {
     pub fn build(scene: &Beam2dScene, p: &ParamValues) -> Result<Self, String> {
         let geometry = &scene.geometry;
         let n_el = p.integer(MESH_N_ELEMENTS) as usize;
+        let element = Beam2dElementType::from_code(p.integer(ELEMENT_TYPE))
+            .ok_or_else(|| format!("{ELEMENT_TYPE}: 1 or 2"))?;
         let length = p.real(GEOMETRY_LENGTH);
         let section = Section {
             width: p.real(GEOMETRY_WIDTH),
@@ -119,11 +141,28 @@ impl Beam2d {
         let normal = Vector2::new(-dir.y, dir.x);
         let origin = Vector2::from(geometry.origin);
         let le = length / n_el as f64;
+        // The second pair of node coordinates: the cross-section gradient (the unit normal) of
+        // the seed-000 element, the axial slope (the unit tangent) of the cable.
+        let grad = match element {
+            Beam2dElementType::AncfShear2d => normal,
+            Beam2dElementType::AncfCable2d => dir,
+        };
         let mut q0 = vec![0.0; n_full];
         for k in 0..n_nodes {
             let r = origin + dir * (le * k as f64);
-            q0[k * 4..k * 4 + 4].copy_from_slice(&[r.x, r.y, normal.x, normal.y]);
+            q0[k * 4..k * 4 + 4].copy_from_slice(&[r.x, r.y, grad.x, grad.y]);
         }
+        // A clamp fixes the position and the direction of the section. Seed 000: the whole
+        // cross-section gradient. Cable: the slope component along the normal (the slope's
+        // length is the axial stretch, which a clamp leaves free, as Exudyn's ANCF cantilever
+        // examples do); that component is one coordinate only for an axis along x or y.
+        let cable_clamp = if normal.y.abs() <= 1e-12 {
+            Some(2)
+        } else if normal.x.abs() <= 1e-12 {
+            Some(3)
+        } else {
+            None
+        };
 
         let stations = Stations::uniform(n_el, length);
         let mut constrained = vec![false; n_full];
@@ -131,7 +170,19 @@ impl Beam2d {
             let node = stations.node_at(&format!("supports[{i}]"), s.at, MESH_N_ELEMENTS)?;
             let base = node * NODE_COORDS;
             let fixed: &[usize] = match (s.kind, s.fixed) {
-                (SupportKind::Clamp, _) => &[0, 1, 2, 3],
+                (SupportKind::Clamp, _) if element == Beam2dElementType::AncfShear2d => {
+                    &[0, 1, 2, 3]
+                }
+                (SupportKind::Clamp, _) => match cable_clamp {
+                    Some(2) => &[0, 1, 2],
+                    Some(_) => &[0, 1, 3],
+                    None => {
+                        return Err(format!(
+                            "supports[{i}]: a clamp of the ANCF cable ({ELEMENT_TYPE} = 2) needs the beam axis along x or y (geometry.angle_deg a multiple of 90), not {}",
+                            geometry.angle_deg
+                        ));
+                    }
+                },
                 (SupportKind::Pin, _) => &[0, 1],
                 (SupportKind::Roller, Some(Axis::X)) => &[0],
                 (SupportKind::Roller, _) => &[1],
@@ -165,14 +216,37 @@ impl Beam2d {
 
         // A straight mesh of equal elements: one element (its reference data are invariant
         // under the translation from one element to the next) shared by the whole set.
-        let e0 = ElemVec::from_fn(|i, _| q0[connectivity[0][i]]);
-        let el = Shear2dElement::new(&e0, le, section, rule, law, rho)
-            .ok_or_else(|| {
-                format!(
-                    "degenerate element geometry ({GEOMETRY_LENGTH} = {length} m over {MESH_N_ELEMENTS} = {n_el}, {GEOMETRY_WIDTH} = {} m, {GEOMETRY_HEIGHT} = {} m)",
-                    section.width, section.height
+        let degenerate = || {
+            format!(
+                "degenerate element geometry ({GEOMETRY_LENGTH} = {length} m over {MESH_N_ELEMENTS} = {n_el}, {GEOMETRY_WIDTH} = {} m, {GEOMETRY_HEIGHT} = {} m)",
+                section.width, section.height
+            )
+        };
+        let el: PlanarElement = match element {
+            Beam2dElementType::AncfShear2d => {
+                let e0 = ElemVec::from_fn(|i, _| q0[connectivity[0][i]]);
+                Arc::new(
+                    Shear2dElement::new(&e0, le, section, rule, law, rho).ok_or_else(degenerate)?,
                 )
-            })?;
+            }
+            Beam2dElementType::AncfCable2d => {
+                // Euler–Bernoulli section of a homogeneous rectangle: EA = E b h,
+                // EI = E b h³/12, ρA = ρ b h.
+                let (e, b, h) = (p.real(MATERIAL_E), section.width, section.height);
+                let cable = CableSection {
+                    ea: e * b * h,
+                    ei: e * b * h.powi(3) / 12.0,
+                    mass_per_length: rho * b * h,
+                    damping_axial: 0.0,
+                    damping_bending: 0.0,
+                    prestrain: 0.0,
+                };
+                if !(le.is_finite() && le > 0.0) {
+                    return Err(degenerate());
+                }
+                Arc::new(AncfCable2d::new(le, cable, CableRule::Full))
+            }
+        };
         let set = ElementSet::new(vec![el], connectivity, &asm);
         let mut gravity_full = vec![0.0; n_full];
         let g3 = Vector3::new(gravity.x, gravity.y, 0.0);
@@ -209,7 +283,7 @@ impl Beam2d {
         let load_maps: Vec<PointMap> = scene
             .loads
             .iter()
-            .map(|l| PointMap::new(stations.point_at(l.at)))
+            .map(|l| PointMap::new(stations.point_at(l.at), element, le))
             .collect();
         let loads = scene
             .loads
@@ -221,10 +295,11 @@ impl Beam2d {
         let probes = scene
             .probes
             .iter()
-            .map(|p| PointMap::new(stations.point_at(p.at)))
+            .map(|p| PointMap::new(stations.point_at(p.at), element, le))
             .collect();
         Ok(Self {
             length,
+            element,
             set,
             asm,
             gravity_full,
@@ -336,7 +411,9 @@ impl Beam2d {
         let mut fe = ElemVec::zeros();
         self.set.for_each_state(&self.q, &self.v, None, |e, el, s| {
             let ae = self.set.gather(e, &self.acc);
-            dt += s.v.dot(&(el.mass() * ae));
+            let mut m = ElemMat::zeros();
+            el.mass_into(s, &mut m);
+            dt += s.v.dot(&(m * ae));
             el.force_into(s, &mut fe);
             du += fe.dot(&s.v);
         });
@@ -357,7 +434,7 @@ impl Beam2d {
         }
         for (map, sig) in self.load_maps.iter().zip(&self.loads) {
             let (fx, fy) = (sig[0].at(t), sig[1].at(t));
-            for (i, w) in map.weights() {
+            for &(i, w) in map.weights() {
                 full[i] -= lambda * w * fx;
                 full[i + 1] -= lambda * w * fy;
             }
@@ -387,8 +464,12 @@ impl Model for Beam2d {
     /// The centre line through the node positions.
     fn sketch(&self) -> crate::model::Sketch {
         let n = self.n_elements();
+        let what = match self.element {
+            Beam2dElementType::AncfShear2d => "seed-000 shear-deformable ANCF",
+            Beam2dElementType::AncfCable2d => "ANCF cable (Euler-Bernoulli, cubic)",
+        };
         let mut s = crate::model::Sketch::new(format!(
-            "{n} seed-000 shear-deformable ANCF elements, {} nodes, {} coordinates",
+            "{n} {what} elements, {} nodes, {} coordinates",
             n + 1,
             self.q.len()
         ));
@@ -627,7 +708,8 @@ impl MechanicalSystem for Beam2d {
         if let Some((_, vals)) = jac.as_mut() {
             vals.fill(0.0);
         }
-        // the average-stress form of the seed-000 element: exactly energy conserving
+        // the average-stress form of the seed-000 element: exactly energy conserving; the
+        // cable has none and takes the plain midpoint rule (`ElementSet::add_midpoint_residual`)
         let x = Eval {
             q: &qb,
             v: &vw,
@@ -666,7 +748,9 @@ impl PortHost for Beam2d {
             let ae = self.set.gather(e, &self.acc);
             let el = self.set.element(e);
             el.force_into(&s, &mut fe);
-            fe += el.mass() * ae;
+            let mut m = ElemMat::zeros();
+            el.mass_into(&s, &mut m);
+            fe += m * ae;
             let local = if self.set.element_dofs(e)[0] == base {
                 0
             } else {
@@ -680,7 +764,7 @@ impl PortHost for Beam2d {
             ext[axis] += self.gravity_full[base + axis];
         }
         for (map, sig) in self.load_maps.iter().zip(&self.loads) {
-            for (i, w) in map.weights() {
+            for &(i, w) in map.weights() {
                 if i == base {
                     ext[0] += w * sig[0].at(self.t);
                     ext[1] += w * sig[1].at(self.t);
@@ -700,7 +784,9 @@ impl PortHost for Beam2d {
             let s = ElementState::new(self.set.gather(e, &self.q), ElemVec::zeros());
             let el = self.set.element(e);
             el.tangent_into(&s, &mut fe, &mut ke, None);
-            ke += c_m * el.mass();
+            let mut m = ElemMat::zeros();
+            el.mass_into(&s, &mut m);
+            ke += c_m * m;
             let dofs = self.set.element_dofs(e);
             let local = if dofs[0] == base { 0 } else { 4 };
             for (j, &col) in dofs.iter().enumerate() {

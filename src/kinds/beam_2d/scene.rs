@@ -1,7 +1,7 @@
 //! Kind `beam_2d`: checks of the tables, parameters, inputs and outputs, and what each input
 //! and output means to the model.
 
-use super::Beam2dScene;
+use super::{Beam2dElementType, Beam2dScene};
 use crate::kinds::KindIo;
 use crate::kinds::energy::{BODY_ENERGIES, EnergyKind, declare_energy_outputs};
 use crate::scene::params::{
@@ -56,6 +56,19 @@ pub enum Output {
 /// Problems of a planar-beam scene: required tables, supports, loads, probes.
 pub fn check(s: &Beam2dScene) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
+    let el = &s.element;
+    if el.element_type == Beam2dElementType::AncfCable2d {
+        let given = [
+            ("shear_rule", el.shear_rule.is_some()),
+            ("strain_energy", el.strain_energy.is_some()),
+            ("shear_coefficient", el.shear_coefficient.is_some()),
+        ];
+        for (key, _) in given.iter().filter(|(_, g)| *g) {
+            errs.push(format!(
+                "element.{key}: applies to the seed-000 element only (type = \"ancf_shear_2d\"); the ANCF cable (type = \"ancf_cable_2d\") has no shear: remove the key"
+            ));
+        }
+    }
     let g = &s.geometry;
     if !g.origin.iter().all(|v| v.is_finite()) || !g.angle_deg.is_finite() {
         errs.push("geometry.origin / geometry.angle_deg: must be finite numbers".into());
@@ -144,24 +157,31 @@ pub fn params(s: &Beam2dScene) -> Result<Vec<ParamDef>, String> {
             Check::IntRange(1, MAX_ELEMENTS as i32),
         ),
         ParamDef::new(
-            ELEMENT_SHEAR_RULE,
-            Value::Integer(s.element.shear_rule),
+            ELEMENT_TYPE,
+            Value::Integer(s.element.element_type.code()),
             None,
-            "Shear-energy integration: 1 = original 1x1 rule, 2 = the 1x2 fix (Kerkkanen et al. 2003, sections 5 and 7)",
+            "Element family: 1 = seed-000 shear-deformable ANCF beam, linear, 4 coordinates per node (Kerkkanen, Sopanen & Mikkola 2003; the default); 2 = gradient-deficient ANCF cable, Euler-Bernoulli, cubic Hermite, position and axial slope per node (Gerstmayr & Irschik 2008), with EA = E width height, EI = E width height^3/12, rhoA = rho width height (material.nu and the element.shear_* and element.strain_energy parameters do not apply to it and are ignored)",
+            Check::IntRange(1, 2),
+        ),
+        ParamDef::new(
+            ELEMENT_SHEAR_RULE,
+            Value::Integer(s.element.shear_rule()),
+            None,
+            "Shear-energy integration of the seed-000 element (element.type = 1; ignored by the cable): 1 = original 1x1 rule, 2 = the 1x2 fix (Kerkkanen et al. 2003, sections 5 and 7)",
             Check::IntRange(1, 2),
         ),
         ParamDef::new(
             ELEMENT_STRAIN_ENERGY,
-            Value::Integer(s.element.strain_energy),
+            Value::Integer(s.element.strain_energy()),
             None,
-            "Strain energy: 1 = Eq. 12 (no Poisson coupling), 2 = Lame form of Eqs. 10-11",
+            "Strain energy of the seed-000 element (element.type = 1; ignored by the cable): 1 = Eq. 12 (no Poisson coupling), 2 = Lame form of Eqs. 10-11",
             Check::IntRange(1, 2),
         ),
         ParamDef::new(
             ELEMENT_SHEAR_COEFFICIENT,
-            real(s.element.shear_coefficient),
+            real(s.element.shear_coefficient()),
             Some(Unit::One),
-            "Shear correction factor k_s of Eq. 12",
+            "Shear correction factor k_s of Eq. 12 of the seed-000 element (element.type = 1; ignored by the cable)",
             Check::Positive,
         ),
     ]);
@@ -327,4 +347,43 @@ pub fn smoke_test(s: &Beam2dScene) -> crate::ls_ref::SmokeTest {
         ]);
     }
     SmokeTest::default()
+}
+
+/// `element.type` codes by scene name ([`super::Beam2dElementType::ALL`]), as the advised
+/// scene writes them.
+const ELEMENT_TYPES: &[(&str, i32)] = &[("ancf_shear_2d", 1), ("ancf_cable_2d", 2)];
+
+/// The knobs `flexfmu advise` varies: the element family (`element.type`: the seed-000
+/// element and the cable converge to different answers; the seed-000 options are removed from
+/// a scene advised to use the cable), the element count (at least 1) and the solver knobs.
+pub fn knobs(_s: &Beam2dScene) -> Vec<crate::advise::Knob> {
+    use crate::advise::{Knob, KnobRole, solver_knobs};
+    let mut k = vec![
+        Knob::new(ELEMENT_TYPE, KnobRole::Family(&[1, 2]))
+            .at("element", "type", Some(ELEMENT_TYPES))
+            .dropping(&[
+                (2, "element", "shear_rule"),
+                (2, "element", "strain_energy"),
+                (2, "element", "shear_coefficient"),
+            ]),
+        Knob::new(MESH_N_ELEMENTS, KnobRole::Count { min: 1 }),
+    ];
+    k.extend(solver_knobs());
+    k
+}
+
+#[cfg(test)]
+mod advise_tests {
+    use super::*;
+
+    #[test]
+    fn element_type_names_match_the_scene_enum() {
+        for (t, name, code) in super::super::Beam2dElementType::ALL {
+            assert!(ELEMENT_TYPES.contains(&(name, code)), "{t:?}");
+        }
+        assert_eq!(
+            ELEMENT_TYPES.len(),
+            super::super::Beam2dElementType::ALL.len()
+        );
+    }
 }

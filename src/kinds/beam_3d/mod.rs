@@ -24,6 +24,7 @@ body_kind! {
         validation: include_str!("validation.txt"),
         legacy: |t| legacy_element_type(t) == Some("corotational_3d") && !legacy_has_belt(t),
         smoke_test: |s| scene::smoke_test(s),
+        knobs: |s| scene::knobs(s),
     }
 }
 

@@ -382,3 +382,17 @@ pub fn smoke_test(s: &Beam3dScene) -> crate::ls_ref::SmokeTest {
         _ => SmokeTest::default(),
     }
 }
+
+/// The knobs `flexfmu advise` varies: the beam theory (a family: Euler–Bernoulli and
+/// Timoshenko converge to different answers), the element count (at least 1), the mass
+/// matrix (lumped or consistent, one converged answer) and the solver knobs.
+pub fn knobs(_s: &Beam3dScene) -> Vec<crate::advise::Knob> {
+    use crate::advise::{Knob, KnobRole, solver_knobs};
+    let mut k = vec![
+        Knob::new(ELEMENT_THEORY, KnobRole::Family(&[1, 2])),
+        Knob::new(MESH_N_ELEMENTS, KnobRole::Count { min: 1 }),
+        Knob::new(ELEMENT_MASS, KnobRole::Variant(&[1, 2])),
+    ];
+    k.extend(solver_knobs());
+    k
+}

@@ -554,3 +554,21 @@ pub fn smoke_test(s: &BeltDriveScene) -> crate::ls_ref::SmokeTest {
         PulleyMode::Free => vec![stim("torque_in", 1.0, Shape::Excursion)],
     })
 }
+
+/// The knobs `flexfmu advise` varies: the belt element (a family: the cable and the seed-000
+/// element converge to different answers), the elements around the loop (at least 4) and the
+/// contact points per element (at least 1), which move together by level, and the solver knobs.
+pub fn knobs(_s: &BeltDriveScene) -> Vec<crate::advise::Knob> {
+    use crate::advise::{Knob, KnobRole, solver_knobs};
+    let mut k = vec![
+        Knob::new(BELT_ELEMENT, KnobRole::Family(&[1, 2])).at(
+            "element",
+            "type",
+            Some(BELT_ELEMENTS),
+        ),
+        Knob::new(BELT_N_ELEMENTS, KnobRole::Count { min: 4 }),
+        Knob::new(CONTACT_POINTS, KnobRole::Count { min: 1 }),
+    ];
+    k.extend(solver_knobs());
+    k
+}
