@@ -5,28 +5,14 @@
 
 mod common;
 
-use common::{output, simulation, with};
+use common::{floats, output, simulation, with};
 use flexfmu::kinds::air_spring::AirSpringScene;
 use flexfmu::kinds::air_spring::model::AirSpring;
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::variables::Value;
 
 fn reference() -> toml::Table {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/air_spring_reference.toml"
-    ))
-    .unwrap();
-    toml::from_str(&text).unwrap()
-}
-
-fn floats(t: &toml::Value, key: &str) -> Vec<f64> {
-    t[key]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_float().unwrap())
-        .collect()
+    common::data_toml("air_spring_reference.toml")
 }
 
 fn axisym_text() -> String {
@@ -420,30 +406,23 @@ fn friction_on_the_piston_lets_the_lobe_roll_and_dissipates() {
         let iz = common::input_index(&scene, "top.z");
         let iv = common::input_index(&scene, "top.vz");
         let (amp, w) = (0.03, std::f64::consts::PI);
-        let stored = |sim: &flexfmu::solver::simulation::Simulation| {
-            ["energy.gas", "energy.strain", "energy.kinetic"]
-                .iter()
-                .map(|n| output(&scene, sim, n))
-                .sum::<f64>()
+        let drive = |t: f64| {
+            vec![
+                (iz, 0.25 - amp * (w * t).sin()),
+                (iv, -amp * w * (w * t).cos()),
+            ]
         };
-        let e0 = stored(&sim);
-        let mut out = vec![];
-        for k in 0..2000 {
-            let t = k as f64 * 1e-3;
-            sim.set_input(iz, 0.25 - amp * (w * t).sin());
-            sim.set_input(iv, -amp * w * (w * t).cos());
-            sim.advance(t + 1e-3).unwrap();
-            let work = output(&scene, &sim, "energy.plate_work");
-            let lost = output(&scene, &sim, "energy.dissipated");
-            out.push((
-                output(&scene, &sim, "top.fz"),
-                output(&scene, &sim, "bellows.lobe_radius"),
-                lost,
-                work - (stored(&sim) - e0) - lost,
-                work,
-            ));
-        }
-        out
+        common::energy_run(
+            &scene,
+            &mut sim,
+            2000,
+            1e-3,
+            drive,
+            &["top.fz", "bellows.lobe_radius"],
+        )
+        .into_iter()
+        .map(|(o, lost, num, work)| (o[0], o[1], lost, num, work))
+        .collect::<Vec<_>>()
     };
     let free = run(0.0);
     let rough = run(0.5);

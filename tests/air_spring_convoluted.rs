@@ -6,28 +6,14 @@
 
 mod common;
 
-use common::{output, simulation, with};
+use common::{floats, output, simulation, with};
 use flexfmu::kinds::air_spring::AirSpringScene;
 use flexfmu::kinds::air_spring::model::AirSpring;
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::variables::Value;
 
 fn reference() -> toml::Table {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/air_spring_convoluted_reference.toml"
-    ))
-    .unwrap();
-    toml::from_str(&text).unwrap()
-}
-
-fn floats(t: &toml::Value, key: &str) -> Vec<f64> {
-    t[key]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_float().unwrap())
-        .collect()
+    common::data_toml("air_spring_convoluted_reference.toml")
 }
 
 fn text() -> String {

@@ -239,7 +239,7 @@ fn other_springs_and_gas_laws_agree_with_the_membrane_level() {
 /// (plate work = change of gas + strain + kinetic energy + dissipated).
 #[test]
 fn friction_at_the_shell_level_dissipates_and_keeps_the_energy_balance() {
-    use common::{input_index, output, simulation};
+    use common::{input_index, simulation};
     use flexfmu::variables::Value;
     let scene = Scene::from_toml(&text()).unwrap();
     let run = |mu: f64| {
@@ -254,30 +254,16 @@ fn friction_at_the_shell_level_dissipates_and_keeps_the_energy_balance() {
         .unwrap();
         let (ix, ivx) = (input_index(&scene, "top.x"), input_index(&scene, "top.vx"));
         let w = 2.0 * std::f64::consts::PI;
-        let stored = |sim: &flexfmu::solver::simulation::Simulation| {
-            ["energy.gas", "energy.strain", "energy.kinetic"]
-                .iter()
-                .map(|n| output(&scene, sim, n))
-                .sum::<f64>()
+        let drive = |t: f64| {
+            vec![
+                (ix, 0.005 * (w * t).sin()),
+                (ivx, 0.005 * w * (w * t).cos()),
+            ]
         };
-        let e0 = stored(&sim);
-        let mut out = vec![];
-        for k in 0..1000 {
-            let t = k as f64 * 1e-3;
-            sim.set_input(ix, 0.005 * (w * t).sin());
-            sim.set_input(ivx, 0.005 * w * (w * t).cos());
-            sim.advance(t + 1e-3).unwrap();
-            let work = output(&scene, &sim, "energy.plate_work");
-            let lost = output(&scene, &sim, "energy.dissipated");
-            out.push((
-                output(&scene, &sim, "top.fx"),
-                output(&scene, &sim, "top.fz"),
-                lost,
-                work - (stored(&sim) - e0) - lost,
-                work,
-            ));
-        }
-        out
+        common::energy_run(&scene, &mut sim, 1000, 1e-3, drive, &["top.fx", "top.fz"])
+            .into_iter()
+            .map(|(o, lost, num, work)| (o[0], o[1], lost, num, work))
+            .collect::<Vec<_>>()
     };
     let free = run(0.0);
     let rough = run(0.5);

@@ -256,3 +256,59 @@ pub fn set_param(p: &mut ParamValues, name: &'static str, v: Value) {
         (old, _) => panic!("parameter {name}: the scene has {old:?}, the test sets {v:?}"),
     }
 }
+
+/// A TOML file of `tests/data/` (reference curves of other programs and scripts).
+#[allow(dead_code)]
+pub fn data_toml(name: &str) -> toml::Table {
+    let path = format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    toml::from_str(&text).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+/// An array of floats `key` of a TOML table.
+#[allow(dead_code)]
+pub fn floats(t: &toml::Value, key: &str) -> Vec<f64> {
+    t[key]
+        .as_array()
+        .unwrap_or_else(|| panic!("{key}: not an array"))
+        .iter()
+        .map(|x| x.as_float().unwrap_or_else(|| panic!("{key}: not floats")))
+        .collect()
+}
+
+/// Energy outputs over a run: after each step of `h` [s] (inputs set by `drive(t)` at the
+/// step's start), the outputs `names`, the dissipated energy, the numerical part of the energy
+/// balance (plate work − change of gas, strain and kinetic energy − dissipated) and the plate
+/// work [J] (air-spring kinds).
+#[allow(dead_code)]
+pub fn energy_run(
+    scene: &Scene,
+    sim: &mut Simulation,
+    steps: usize,
+    h: f64,
+    drive: impl Fn(f64) -> Vec<(usize, f64)>,
+    names: &[&str],
+) -> Vec<(Vec<f64>, f64, f64, f64)> {
+    let stored = |sim: &Simulation| {
+        ["energy.gas", "energy.strain", "energy.kinetic"]
+            .iter()
+            .map(|n| output(scene, sim, n))
+            .sum::<f64>()
+    };
+    let e0 = stored(sim);
+    let t0 = sim.time();
+    (0..steps)
+        .map(|k| {
+            let t = t0 + k as f64 * h;
+            for (i, u) in drive(t) {
+                sim.set_input(i, u);
+            }
+            sim.advance(t + h)
+                .unwrap_or_else(|e| panic!("step at t = {t}: {}", e.message));
+            let work = output(scene, sim, "energy.plate_work");
+            let lost = output(scene, sim, "energy.dissipated");
+            let outs = names.iter().map(|n| output(scene, sim, n)).collect();
+            (outs, lost, work - (stored(sim) - e0) - lost, work)
+        })
+        .collect()
+}
