@@ -357,3 +357,46 @@ fn energy_balance() {
     assert!(diss > 0.0);
     assert!(mismatch.abs() < 0.01 * w.abs());
 }
+
+/// A model built to receive a saved state skips the static pre-load (issue 14: an importer
+/// starts from the FMU's shipped state without it) and, given the state of a pre-loaded drive,
+/// is that drive: the same state (with the reference length the pre-load settled on) and the
+/// same next step, bit for bit.
+#[test]
+fn a_model_built_to_restore_skips_the_preload_and_takes_the_state() {
+    use flexfmu::kinds::belt_drive::BeltDriveScene;
+    use flexfmu::scene::{ParamValues, Scene};
+    use flexfmu::snapshot::{StateReader, StateWriter};
+    let scene = Scene::from_path(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/belt_drive.toml"
+    )))
+    .unwrap();
+    let tables: &BeltDriveScene = scene.tables().unwrap();
+    let p = ParamValues::defaults(&scene.params);
+    let save = |m: &dyn Model| {
+        let mut w = StateWriter::new();
+        m.save(&mut w).unwrap();
+        w.bytes().to_vec()
+    };
+    let loaded = BeltDrive::build(tables, &p).unwrap();
+    assert!(loaded.preload_report().solves >= 1);
+    let bare = BeltDrive::build_to_restore(tables, &p).unwrap();
+    assert_eq!(bare.preload_report().solves, 0);
+    let state = save(&loaded);
+    assert_ne!(save(&bare), state, "the pre-load changed nothing");
+    let mut restored = BeltDrive::build_to_restore(tables, &p).unwrap();
+    let mut r = StateReader::new(&state);
+    restored.restore(&mut r).unwrap();
+    assert!(r.finished());
+    assert_eq!(save(&restored), state);
+    let cfg = SolverConfig::from_params(&p);
+    let mut a = Simulation::new(Box::new(loaded), cfg, 0.0).unwrap();
+    let mut b = Simulation::new(Box::new(restored), cfg, 0.0).unwrap();
+    a.advance(1e-3).unwrap();
+    b.advance(1e-3).unwrap();
+    let (mut wa, mut wb) = (StateWriter::new(), StateWriter::new());
+    a.save(&mut wa).unwrap();
+    b.save(&mut wb).unwrap();
+    assert_eq!(wa.bytes(), wb.bytes(), "the states after one step differ");
+}

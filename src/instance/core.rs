@@ -2,7 +2,7 @@
 
 use crate::fmi2::state_machine::{Call, State};
 use crate::logging::{LogFilter, Status, status_category};
-use crate::model::build_model;
+use crate::model::{build_model, build_model_to_restore};
 use crate::model_description::scene_guid;
 use crate::scene::params::ParamVariability;
 use crate::scene::{ParamValues, Scene};
@@ -315,7 +315,13 @@ impl Instance {
         initialize: bool,
     ) -> Result<Simulation, String> {
         let params = self.param_values_of(values);
-        let mut model = build_model(&self.scene, &params)?;
+        // without initialization the simulation is about to receive a saved state: the kind
+        // may skip setup the state carries (the belt's static pre-load)
+        let mut model = if initialize {
+            build_model(&self.scene, &params)?
+        } else {
+            build_model_to_restore(&self.scene, &params)?
+        };
         for (v, val) in self.vars.vars().iter().zip(values) {
             if let (Role::Input(kind), Value::Real(x)) = (v.role, val) {
                 model.set_input(kind, *x);

@@ -15,8 +15,9 @@ use crate::snapshot::{StateReader, StateWriter};
 use crate::solver::simulation::SolverConfig;
 use crate::variables::{Value, VarType};
 
-/// Version of the serialized state format; states of other versions are rejected.
-pub const STATE_FORMAT_VERSION: u64 = 1;
+/// Version of the serialized state format; states of other versions are rejected (2: the
+/// belt drive keeps its reference length, the axisymmetric air spring its friction history).
+pub const STATE_FORMAT_VERSION: u64 = 2;
 
 const MAGIC: &[u8; 16] = b"flexfmu-state\0\0\0";
 

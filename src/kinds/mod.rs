@@ -23,7 +23,8 @@ macro_rules! body_kind {
             legacy: |$t:ident| $legacy:expr
             $(, presets: |$ps:ident| $presets:expr)?
             $(, smoke_test: |$sm:ident| $smoke:expr)?
-            $(, initial_state: $istate:expr)? $(,)?
+            $(, initial_state: $istate:expr)?
+            $(, build_to_restore: |$rs:ident, $rp:ident| $rbuild:expr)? $(,)?
         }
     ) => {
         body_kind! {
@@ -38,6 +39,7 @@ macro_rules! body_kind {
                 $(, presets: |$ps| $presets)?
                 $(, smoke_test: |$sm| $smoke)?
                 $(, initial_state: $istate)?
+                $(, build_to_restore: |$rs, $rp| $rbuild)?
             }
         }
     };
@@ -52,7 +54,8 @@ macro_rules! body_kind {
             legacy: |$t:ident| $legacy:expr
             $(, presets: |$ps:ident| $presets:expr)?
             $(, smoke_test: |$sm:ident| $smoke:expr)?
-            $(, initial_state: $istate:expr)? $(,)?
+            $(, initial_state: $istate:expr)?
+            $(, build_to_restore: |$rs:ident, $rp:ident| $rbuild:expr)? $(,)?
         }
     ) => {
         $(#[$doc])*
@@ -125,6 +128,16 @@ macro_rules! body_kind {
                 fn smoke_test(&self) -> $crate::ls_ref::SmokeTest {
                     let $sm = self;
                     $smoke
+                }
+            )?
+
+            $(
+                fn build_model_to_restore(
+                    &self,
+                    params: &$crate::scene::ParamValues,
+                ) -> Result<Box<dyn $crate::model::Model>, String> {
+                    let ($rs, $rp) = (self, params);
+                    $rbuild
                 }
             )?
 
@@ -217,6 +230,13 @@ pub trait KindScene: Debug + Send + Sync + Any {
 
     /// The model with validated parameter values. Errors name the parameter or scene key.
     fn build_model(&self, params: &ParamValues) -> Result<Box<dyn Model>, String>;
+
+    /// The model about to receive a saved state (fmi2SetFMUstate or a deserialized state
+    /// into a new simulation): a kind may skip setup that the state carries (the belt's static
+    /// pre-load); by default the same as [`Self::build_model`].
+    fn build_model_to_restore(&self, params: &ParamValues) -> Result<Box<dyn Model>, String> {
+        self.build_model(params)
+    }
 
     /// For tests and tools that need the kind's own tables.
     fn as_any(&self) -> &dyn Any;

@@ -294,9 +294,9 @@ fn doc_page(
              <code>fmi2DeSerializeFMUstate</code> and <code>fmi2SetFMUstate</code> instead of \
              the initialization calls, then <code>fmi2DoStep</code> from t = {} s. The state \
              carries the parameter values it was made with: it is only meaningful for the \
-             default parameters. The model is rebuilt from the scene when the state is set \
-             (for a belt drive this repeats the mounting pre-load), but the initialization \
-             after it is skipped.</li>\n",
+             default parameters. Setting it skips the initialization and, for a belt drive, the \
+             static pre-load of the mounted belt: the model is built from the scene without \
+             it and takes the pre-loaded belt and its reference length from the state.</li>\n",
             paths::STATE,
             e(doc),
             r.start_time

@@ -12,6 +12,6 @@ pub mod rates;
 pub mod sketch;
 mod system;
 
-pub use factory::build_model;
+pub use factory::{build_model, build_model_to_restore};
 pub use sketch::Sketch;
 pub use system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};

@@ -27,6 +27,7 @@ body_kind! {
         presets: |s| scene::presets(s),
         smoke_test: |s| scene::smoke_test(s),
         initial_state: Some("the belt mounted on the pulleys with its pre-tension, after the static pre-load"),
+        build_to_restore: |s, p| Ok(Box::new(BeltDrive::build_to_restore(s, p)?)),
     }
 }
 

@@ -283,6 +283,14 @@ impl BeltDrive {
     /// span tension (the reference length is corrected until the mean span tension matches
     /// within 0.1 %).
     pub fn new(spec: BeltSpec) -> Result<Self, String> {
+        Self::new_with(spec, true)
+    }
+
+    /// [`Self::new`], with the static pre-load of a closed belt only if `preload` (without it
+    /// the belt is mounted at the stretch of its span tension, not in equilibrium: for a
+    /// model about to receive a saved state, which carries the pre-loaded belt and its
+    /// reference length).
+    pub fn new_with(spec: BeltSpec, preload: bool) -> Result<Self, String> {
         let np = spec.pulleys.len();
         let half_t = 0.5 * spec.thickness;
         let circles: Vec<Circle> = spec
@@ -445,7 +453,9 @@ impl BeltDrive {
         };
         me.set_reference_length(l_ref)?;
         me.commit(0.0, true);
-        if let BeltPath::Closed { pretension, .. } = me.spec.path {
+        if let BeltPath::Closed { pretension, .. } = me.spec.path
+            && preload
+        {
             me.preload(pretension)?;
         }
         Ok(me)
@@ -453,6 +463,17 @@ impl BeltDrive {
 
     /// Builds the model of a belt-drive scene with validated parameter values.
     pub fn build(scene: &BeltDriveScene, p: &ParamValues) -> Result<Self, String> {
+        Self::build_with(scene, p, true)
+    }
+
+    /// [`Self::build`] for a model about to receive a saved state (fmi2SetFMUstate into a
+    /// new simulation): the static pre-load is skipped, since the state carries the
+    /// pre-loaded belt and its reference length.
+    pub fn build_to_restore(scene: &BeltDriveScene, p: &ParamValues) -> Result<Self, String> {
+        Self::build_with(scene, p, false)
+    }
+
+    fn build_with(scene: &BeltDriveScene, p: &ParamValues, preload: bool) -> Result<Self, String> {
         use crate::kinds::belt_drive::scene::{names::*, *};
         let rule = match p.integer(BELT_INTEGRATION) {
             2 => CableRule::Reduced,
@@ -521,22 +542,25 @@ impl BeltDrive {
             p.get(GRAVITY_Y).map_or(0.0, |_| p.real(GRAVITY_Y)),
         );
         let cfg = SolverConfig::from_params(p);
-        let mut drive = Self::new(BeltSpec {
-            section,
-            element,
-            thickness,
-            pulleys,
-            contact,
-            points_per_element: p.integer(CONTACT_POINTS) as usize,
-            gravity,
-            path: BeltPath::Closed {
-                n_elements: p.integer(BELT_N_ELEMENTS) as usize,
-                pretension: p.real(BELT_PRETENSION),
+        let mut drive = Self::new_with(
+            BeltSpec {
+                section,
+                element,
+                thickness,
+                pulleys,
+                contact,
+                points_per_element: p.integer(CONTACT_POINTS) as usize,
+                gravity,
+                path: BeltPath::Closed {
+                    n_elements: p.integer(BELT_N_ELEMENTS) as usize,
+                    pretension: p.real(BELT_PRETENSION),
+                },
+                n_points: belt_points(scene),
+                track_energy: scene.outputs.energy,
+                statics: (cfg.newton, cfg.linear, cfg.load_steps),
             },
-            n_points: belt_points(scene),
-            track_energy: scene.outputs.energy,
-            statics: (cfg.newton, cfg.linear, cfg.load_steps),
-        })?;
+            preload,
+        )?;
         for (i, s) in scene.pulley.iter().enumerate() {
             drive.io[i].omega_in = InputSignal::constant(s.omega);
             drive.io[i].torque_in = InputSignal::constant(s.torque_in);
@@ -935,6 +959,8 @@ impl Model for BeltDrive {
         self.energy.save(w);
         w.bool(self.t0_step.is_some());
         w.f64(self.t0_step.unwrap_or(0.0));
+        // the reference length the pre-load settled on (a model built to restore has none)
+        w.f64(self.element().length());
         Ok(())
     }
 
@@ -956,6 +982,15 @@ impl Model for BeltDrive {
         self.energy = EnergyBook::restore(r).map_err(e)?;
         let has_t0 = r.bool().map_err(e)?;
         let t0 = r.f64().map_err(e)?;
+        let length = r.f64().map_err(e)?;
+        if !(length > 0.0 && length.is_finite()) {
+            return Err(format!(
+                "belt element reference length {length} m in the state"
+            ));
+        }
+        if length != self.element().length() {
+            self.set_reference_length(length)?;
+        }
         self.t0_step = has_t0.then_some(t0);
         self.t = t;
         Ok(())
