@@ -39,7 +39,8 @@ Exudyn's residual and Jacobian (MainSolverImplicitSecondOrder.ComputeNewtonResid
 ComputeNewtonJacobian, timed from Python on 16 and 256 elements, the difference per element).
 
 Writes docs/race_exudyn.png (Pareto fronts), docs/race_exudyn.csv (every run) and prints the
-tables (markdown). Run: python scripts/race_exudyn.py [--quick]   (about 10 min; --quick: 2 min)
+tables (markdown). Run: python scripts/race_exudyn.py [--quick] [--fresh]   (about 40 min on a loaded
+2-core machine; --quick: 3 min; the reference runs are cached in build/race/)
 """
 import argparse
 import csv
