@@ -327,21 +327,54 @@ impl AncfCable2d {
 
     /// Internal force `Q = ∫ N ∂ε/∂q + M ∂K/∂q dx` [N] (elastic plus material damping at the
     /// velocities `qd`), written into `f`; returns the strain energy [J].
+    ///
+    /// The gradients are never formed as 8-vectors: with `∂ε/∂r'_a = s'_a u`
+    /// (`u = r'/|r'|`) and `∂K/∂q_a = s'_a ∂K/∂r' + s''_a ∂K/∂r''`, where
+    /// `∂K/∂r' = (r''_y, −r''_x)/g − 2c r'/g²` and `∂K/∂r'' = (−r'_y, r'_x)/g`
+    /// (`c = r' × r''`, `g = r'·r'`), every point adds `s'_a A + s''_a B` to node block `a`
+    /// with two 2-vectors `A`, `B` (the same sums as [`Self::axial_kin`] and
+    /// [`Self::bending_kin`]; checked against them and against ∇U in the element tests).
     pub fn internal_force(&self, q: &ElemVec, qd: &ElemVec, f: &mut ElemVec) -> f64 {
-        *f = ElemVec::zeros();
         let s = &self.section;
         let mut u = 0.0;
+        let mut fa = [Vector2::<f64>::zeros(); 4];
         for p in &self.axial[..self.n_axial] {
-            let (_, _, eps, de) = Self::axial_kin(p, q);
-            let n = s.ea * (eps - s.prestrain) + s.damping_axial * de.dot(qd);
-            *f += (p.w * n) * de;
-            u += 0.5 * p.w * s.ea * (eps - s.prestrain).powi(2);
+            let rp = combine(&p.d1, q);
+            let len = rp.norm();
+            let uvec = rp / len;
+            let strain = len - 1.0 - s.prestrain;
+            let mut n = s.ea * strain;
+            if s.damping_axial != 0.0 {
+                n += s.damping_axial * uvec.dot(&combine(&p.d1, qd));
+            }
+            let a = (p.w * n) * uvec;
+            for (block, d1) in fa.iter_mut().zip(&p.d1) {
+                *block += *d1 * a;
+            }
+            u += 0.5 * p.w * s.ea * strain * strain;
         }
         for p in &self.bending[..self.n_bending] {
-            let (_, _, k, _, _, dk) = Self::bending_kin(p, q);
-            let m = s.ei * k + s.damping_bending * dk.dot(qd);
-            *f += (p.w * m) * dk;
+            let rp = combine(&p.d1, q);
+            let rpp = combine(&p.d2, q);
+            let c = rp.x * rpp.y - rp.y * rpp.x;
+            let inv_g = 1.0 / rp.dot(&rp);
+            let k = c * inv_g;
+            let dk1 = Vector2::new(rpp.y, -rpp.x) * inv_g - (2.0 * k * inv_g) * rp;
+            let dk2 = Vector2::new(-rp.y, rp.x) * inv_g;
+            let mut m = s.ei * k;
+            if s.damping_bending != 0.0 {
+                m += s.damping_bending
+                    * (dk1.dot(&combine(&p.d1, qd)) + dk2.dot(&combine(&p.d2, qd)));
+            }
+            let (a, b) = ((p.w * m) * dk1, (p.w * m) * dk2);
+            for (block, (d1, d2)) in fa.iter_mut().zip(p.d1.iter().zip(&p.d2)) {
+                *block += *d1 * a + *d2 * b;
+            }
             u += 0.5 * p.w * s.ei * k * k;
+        }
+        for (i, block) in fa.iter().enumerate() {
+            f[2 * i] = block.x;
+            f[2 * i + 1] = block.y;
         }
         u
     }
