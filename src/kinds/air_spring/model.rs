@@ -150,7 +150,7 @@ impl Mounting {
         // the cord angle set the meridional one; the design solve finds it)
         let start = convoluted_start([rb, hd], [rbb, 0.0], rg, length, n_el).map_err(|e| {
             format!(
-                "{e} ({BELLOWS_SLEEVE_LENGTH}, {TOP_PLATE_BEAD_RADIUS}, {BOTTOM_PLATE_BEAD_RADIUS}, {SPRING_DESIGN_HEIGHT})"
+                "{e} ({BELLOWS_SLEEVE_LENGTH}, {TOP_PLATE_BEAD_RADIUS}, {BOTTOM_PLATE_BEAD_RADIUS}, {GIRDLE_RADIUS}, {SPRING_DESIGN_HEIGHT})"
             )
         })?;
         let big = 10.0 * rb.max(rbb);
