@@ -4,6 +4,7 @@
 //! [`model`], assembled from its pulleys (`pulleys.rs`), pre-load (`preload.rs`) and energy book
 //! (`energy.rs`) and the contact point set of [`crate::contact`].
 
+pub mod creep;
 mod energy;
 pub mod model;
 mod preload;

@@ -113,8 +113,11 @@ pub struct BeltSpec {
 /// Default contact constants derived from the belt (see the `contact.*` parameters):
 /// `k_n = EA/(t r_min)` (penetration = belt strain × thickness on the smallest pulley),
 /// `d_n = √(k_n m')` (half the critical damping of the belt on the penalty spring),
-/// `k_t = k_n/100` (a stiffer bristle makes Newton's method cycle between stick and slip at
-/// 1 ms steps; the bristle only sets the micro-slip before sliding, μp/k_t), `d_t = d_n √(k_t/k_n)`. `thickness` is floored at 1 % of the smallest radius. The
+/// `k_t = k_n/10` (chosen by the creep comparison of `kinds::belt_drive::creep`, README belt
+/// section: with the slip measured on the pitch circle, k_n/10 keeps the creep of the stiff and
+/// the soft belt within 4 % of Grashof's at 1 ms steps for the cost of k_n/100, whose
+/// micro-slip μp/k_t made the creep 60-100 % too large; k_t ≥ k_n sticks harder but halves
+/// steps on the stiff belt and leaves the creep 3-10 % short at 1 ms), `d_t = d_n √(k_t/k_n)`. `thickness` is floored at 1 % of the smallest radius. The
 /// penalty is smoothed over a quarter of the penetration that the tension `t_ref` [N] causes
 /// on a pulley of radius `r_max` (`δ0 = t_ref/(4 r_max k_n)`); stick and sliding are blended
 /// over ±5 % of the friction limit.
@@ -140,7 +143,7 @@ pub fn default_contact(
     } else {
         (k_n * mass_per_length).sqrt()
     };
-    let k_t = if given.2 > 0.0 { given.2 } else { 0.01 * k_n };
+    let k_t = if given.2 > 0.0 { given.2 } else { 0.1 * k_n };
     ContactLaw {
         k_n,
         d_n,

@@ -309,7 +309,7 @@ pub fn params(s: &BeltDriveScene) -> Result<Vec<ParamDef>, String> {
             CONTACT_FRICTION_STIFFNESS,
             real(c.friction_stiffness),
             Some(Unit::NPerM2),
-            "Tangential bristle stiffness per unit belt length in stick; 0 = automatic: 1/100 of the normal stiffness",
+            "Tangential bristle stiffness per unit belt length in stick; 0 = automatic: 1/10 of the normal stiffness",
             Check::NonNegative,
         ),
         ParamDef::new(
