@@ -650,7 +650,10 @@ mod tests {
         };
         // the belt edge (ζ + b = 28 mm) is beyond the flange face (15 mm): flange in contact
         let res = evaluate(&p, &law(), 4e-3, &m, 0.0, 2.0, &h).unwrap();
-        assert!(res.flange_force < 0.0, "the flange at +h pushes the belt back");
+        assert!(
+            res.flange_force < 0.0,
+            "the flange at +h pushes the belt back"
+        );
         check(&p, m, 0.0, 2.0, h, true);
         // blend: an axial and circumferential slip putting |f*| at 1.02 μ p
         let q = pulley(0.0);
@@ -766,7 +769,10 @@ mod tests {
         assert!((res.torque - rho * ft).abs() < 1e-9);
         // off the rim (beyond h + b) of a pulley without flanges: nothing; with flanges the
         // flange holds it; above the surface: nothing
-        let bare = Pulley3d { flange_top: 0.0, ..p };
+        let bare = Pulley3d {
+            flange_top: 0.0,
+            ..p
+        };
         let off = PointMotion {
             r: at(&p, 0.0, rho, 0.026),
             ..m
