@@ -57,6 +57,14 @@ def test_libcosim_runs_the_ssp_like_the_fmpy_master(ssp, fmpy_run):
     assert se.deviation(r, fmpy_run).max() <= AGREE
 
 
+def test_libcosim_runs_the_osp_configuration_with_port_connections_like_the_fmpy_master(ssp, fmpy_run):
+    """ssp/boom_link/OspSystemStructure.xml: the FMUs' <model>_OspModelDescription.xml side files
+    read by libcosim, the ports joined by one VariableGroupConnection (members paired in order)."""
+    r = se.run_libcosim_osp()
+    assert r.shape == fmpy_run.shape
+    assert se.deviation(r, fmpy_run).max() <= AGREE
+
+
 def test_ecos_runs_the_ssp_like_the_fmpy_master(ssp, fmpy_run):
     r = se.run_ecos(ssp)
     assert np.allclose(r[:, 0], fmpy_run[:, 0], rtol=0, atol=1e-9)

@@ -7,6 +7,8 @@ SSP 1.0, chapter 4: an .ssp is a zip with the .ssd at its root) and runs the sys
 
 - in libcosim (libcosimpy: CosimExecution.from_ssp_file on the unpacked archive, fixed step),
 - in Ecos (ecospy: EcosSimulation(ssp_path=...) on the .ssp itself, fixed step),
+- in libcosim from its own format (ssp/boom_link/OspSystemStructure.xml with the FMUs' OSP side
+  files: one VariableGroupConnection of the ports instead of six connections),
 - in a plain fmpy master written here (FMU2Slave, connections and parameter values read from the
   same .ssd and .ssv): explicit Jacobi coupling with the step of the other two: every
   communication step, each connection's output at t_k is written to its input, then both FMUs
@@ -53,7 +55,8 @@ def build(fmu_dir=None):
             subprocess.run([str(ROOT / "target" / "release" / "flexfmu"), "build", str(SOURCE / f"{name}.toml"),
                             "-o", str(OUT / f"{name}.fmu")], check=True, capture_output=True)
         elif pathlib.Path(fmu_dir) != OUT:
-            shutil.copy(pathlib.Path(fmu_dir) / f"{name}.fmu", OUT / f"{name}.fmu")
+            for f in (f"{name}.fmu", f"{name}_OspModelDescription.xml"):
+                shutil.copy(pathlib.Path(fmu_dir) / f, OUT / f)
     ssp = OUT / "boom_link.ssp"
     with zipfile.ZipFile(ssp, "w", zipfile.ZIP_DEFLATED) as z:
         z.write(SOURCE / "SystemStructure.ssd", "SystemStructure.ssd")
@@ -135,32 +138,56 @@ def run_fmpy(ssp, apply_parameters=True, read_after_transfer=False):
     return np.array(rows)
 
 
+def _libcosim_rows(ex):
+    """Steps a libcosim execution to STOP, the RESULTS after every step."""
+    from libcosimpy.CosimObserver import CosimObserver
+
+    step_ns = int(round(STEP * 1e9))
+    obs = CosimObserver.create_last_value()
+    ex.add_observer(obs)
+    index = {}
+    for info in ex.slave_infos():
+        i = info.index
+        index[info.name.decode()] = (i, {v.name.decode(): v.reference for v in ex.slave_variables(i)})
+    rows = []
+    for k in range(int(round(STOP / STEP))):
+        assert ex.step(), f"libcosim step {k}"
+        rows.append([(k + 1) * step_ns * 1e-9] + [
+            obs.last_real_values(slave_index=index[c][0], variable_references=[index[c][1][v]])[0]
+            for c, v in RESULTS])
+    return np.array(rows)
+
+
 def run_libcosim(ssp):
     """libcosim: the unpacked .ssp (libcosim reads a directory with SystemStructure.ssd), its
     fixed-step algorithm at STEP (integer nanoseconds)."""
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
-    from libcosimpy.CosimObserver import CosimObserver
 
     log_output_level(CosimLogLevel.ERROR)
-    step_ns = int(round(STEP * 1e9))
     with tempfile.TemporaryDirectory() as d:
         with zipfile.ZipFile(ssp) as z:
             z.extractall(d)
-        ex = CosimExecution.from_ssp_file(ssp_path=d, step_size=step_ns)
-        obs = CosimObserver.create_last_value()
-        ex.add_observer(obs)
-        index = {}
-        for info in ex.slave_infos():
-            i = info.index
-            index[info.name.decode()] = (i, {v.name.decode(): v.reference for v in ex.slave_variables(i)})
-        rows = []
-        for k in range(int(round(STOP / STEP))):
-            assert ex.step(), f"libcosim step {k}"
-            rows.append([(k + 1) * step_ns * 1e-9] + [
-                obs.last_real_values(slave_index=index[c][0], variable_references=[index[c][1][v]])[0]
-                for c, v in RESULTS])
-    return np.array(rows)
+        ex = CosimExecution.from_ssp_file(ssp_path=d, step_size=int(round(STEP * 1e9)))
+        return _libcosim_rows(ex)
+
+
+def run_libcosim_osp(fmu_dir=OUT):
+    """libcosim from its own configuration: ssp/boom_link/OspSystemStructure.xml next to the two
+    FMUs and their <model>_OspModelDescription.xml side files (written by flexfmu build), the
+    six connections as one VariableGroupConnection of the tip and pivot ports."""
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+
+    log_output_level(CosimLogLevel.ERROR)
+    with tempfile.TemporaryDirectory() as d:
+        shutil.copy(SOURCE / "OspSystemStructure.xml", d)
+        for name in ("boom", "link"):
+            for f in (f"{name}.fmu", f"{name}_OspModelDescription.xml"):
+                shutil.copy(pathlib.Path(fmu_dir) / f, d)
+        ex = CosimExecution.from_osp_config_file(d)
+        assert ex, "libcosim could not load OspSystemStructure.xml"
+        return _libcosim_rows(ex)
 
 
 def run_ecos(ssp):
@@ -189,9 +216,10 @@ def main():
     ap.add_argument("--plot", help="write a plot of the three runs to this file")
     args = ap.parse_args()
     ssp = build(args.fmu_dir)
-    runs = {"fmpy": run_fmpy(ssp), "libcosim": run_libcosim(ssp), "Ecos": run_ecos(ssp)}
+    runs = {"fmpy": run_fmpy(ssp), "libcosim": run_libcosim(ssp), "Ecos": run_ecos(ssp),
+            "libcosim (OSP)": run_libcosim_osp()}
     names = [f"{c}.{v}" for c, v in RESULTS]
-    for importer in ("libcosim", "Ecos"):
+    for importer in ("libcosim", "Ecos", "libcosim (OSP)"):
         print(importer, "vs fmpy:", " ".join(f"{n} {d:.1e}" for n, d in zip(names, deviation(runs[importer], runs["fmpy"]))))
     if args.plot:
         import matplotlib

@@ -636,6 +636,52 @@ fn friction3(
 mod tests {
     use super::*;
 
+    /// The iteration block of a contact (`ks`: stiffness, `kd`: damping, column-major
+    /// `N × N`) against the crate's central-difference helper applied to `eval(x, v)` (the
+    /// force on the point and the generalized force on the obstacle coordinate), steps `hx` in
+    /// position and `hv` in rate, relative Frobenius tolerances `rtol`.
+    #[allow(clippy::too_many_arguments)]
+    #[track_caller]
+    fn assert_block<const N: usize>(
+        what: &str,
+        ks: &[f64],
+        kd: &[f64],
+        x: [f64; N],
+        v: [f64; N],
+        (hx, hv): (f64, f64),
+        (rtol_s, rtol_d): (f64, f64),
+        eval: impl Fn([f64; N], [f64; N]) -> [f64; N],
+    ) {
+        use crate::elements::finite_difference::{assert_close, jacobian};
+        use nalgebra::DMatrix;
+        let arr = |y: &[f64]| -> [f64; N] { y.try_into().expect("N values") };
+        let fx = jacobian(
+            &x,
+            N,
+            |_| hx,
+            |y, out| out.copy_from_slice(&eval(arr(y), v)),
+        );
+        let fv = jacobian(
+            &v,
+            N,
+            |_| hv,
+            |y, out| out.copy_from_slice(&eval(x, arr(y))),
+        );
+        let tiny = f64::MIN_POSITIVE;
+        let (s, d) = (
+            DMatrix::from_column_slice(N, N, ks),
+            DMatrix::from_column_slice(N, N, kd),
+        );
+        assert_close(
+            &format!("{what}: d force / d position"),
+            &s,
+            &fx,
+            rtol_s,
+            tiny,
+        );
+        assert_close(&format!("{what}: d force / d rate"), &d, &fv, rtol_d, tiny);
+    }
+
     fn law() -> ContactLaw {
         ContactLaw {
             k_n: 1e9,
@@ -684,29 +730,7 @@ mod tests {
             let mut kd = [0.0; 9];
             c.iteration_block(1.0, 0.0, &mut ks);
             c.iteration_block(0.0, 1.0, &mut kd);
-            let h = 1e-9;
-            for j in 0..3 {
-                let (mut xp, mut xm) = (x, x);
-                xp[j] += h;
-                xm[j] -= h;
-                let (fp, fm) = (eval(xp, v), eval(xm, v));
-                let (mut vp, mut vm) = (v, v);
-                vp[j] += 1e-3;
-                vm[j] -= 1e-3;
-                let (gp, gm) = (eval(x, vp), eval(x, vm));
-                for i in 0..3 {
-                    let fd = (fp[i] - fm[i]) / (2.0 * h);
-                    assert!(
-                        (fd - ks[i + 3 * j]).abs() <= 1e-5 * (1.0 + fd.abs()),
-                        "{i}{j}"
-                    );
-                    let fdv = (gp[i] - gm[i]) / 2e-3;
-                    assert!(
-                        (fdv - kd[i + 3 * j]).abs() <= 1e-6 * (1.0 + fdv.abs()),
-                        "v {i}{j}"
-                    );
-                }
-            }
+            assert_block("2D", &ks, &kd, x, v, (1e-9, 1e-3), (1e-5, 1e-6), eval);
         }
     }
 
@@ -871,29 +895,7 @@ mod tests {
         let (mut ks, mut kd) = ([0.0; 16], [0.0; 16]);
         c.iteration_block(1.0, 0.0, &mut ks);
         c.iteration_block(0.0, 1.0, &mut kd);
-        for j in 0..4 {
-            let (mut xp, mut xm) = (x, x);
-            xp[j] += 1e-9;
-            xm[j] -= 1e-9;
-            let (fp, fm) = (eval(xp, v), eval(xm, v));
-            let (mut vp, mut vm) = (v, v);
-            vp[j] += 1e-3;
-            vm[j] -= 1e-3;
-            let (gp, gm) = (eval(x, vp), eval(x, vm));
-            for i in 0..4 {
-                let fd = (fp[i] - fm[i]) / 2e-9;
-                assert!(
-                    (fd - ks[i + 4 * j]).abs() <= 1e-5 * (1.0 + fd.abs()),
-                    "{i}{j}: {fd} vs {}",
-                    ks[i + 4 * j]
-                );
-                let fdv = (gp[i] - gm[i]) / 2e-3;
-                assert!(
-                    (fdv - kd[i + 4 * j]).abs() <= 1e-6 * (1.0 + fdv.abs()),
-                    "v {i}{j}"
-                );
-            }
-        }
+        assert_block("3D", &ks, &kd, x, v, (1e-9, 1e-3), (1e-5, 1e-6), eval);
     }
 
     fn friction_law() -> ContactLaw {
@@ -989,34 +991,7 @@ mod tests {
             let mut kd = [0.0; 9];
             c.iteration_block(1.0, 0.0, &mut ks);
             c.iteration_block(0.0, 1.0, &mut kd);
-            // rounding of forces of order w k_n δ over the step h: relative to the block's size
-            let scale_s = ks.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let scale_d = kd.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let h = 1e-8;
-            for j in 0..3 {
-                let (mut xp, mut xm) = (x, x);
-                xp[j] += h;
-                xm[j] -= h;
-                let (fp, fm) = (eval(xp, v), eval(xm, v));
-                let (mut vp, mut vm) = (v, v);
-                vp[j] += 1e-4;
-                vm[j] -= 1e-4;
-                let (gp, gm) = (eval(x, vp), eval(x, vm));
-                for i in 0..3 {
-                    let fd = (fp[i] - fm[i]) / (2.0 * h);
-                    assert!(
-                        (fd - ks[i + 3 * j]).abs() <= 1e-6 * scale_s,
-                        "{expect} {i}{j}: {fd} vs {}",
-                        ks[i + 3 * j]
-                    );
-                    let fdv = (gp[i] - gm[i]) / 2e-4;
-                    assert!(
-                        (fdv - kd[i + 3 * j]).abs() <= 1e-6 * scale_d,
-                        "{expect} v {i}{j}: {fdv} vs {}",
-                        kd[i + 3 * j]
-                    );
-                }
-            }
+            assert_block(expect, &ks, &kd, x, v, (1e-8, 1e-4), (1e-6, 1e-6), eval);
         }
     }
 
@@ -1143,32 +1118,7 @@ mod tests {
             let (mut ks, mut kd) = ([0.0; 16], [0.0; 16]);
             c.iteration_block(1.0, 0.0, &mut ks);
             c.iteration_block(0.0, 1.0, &mut kd);
-            let scale_s = ks.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let scale_d = kd.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            for j in 0..4 {
-                let (mut xp, mut xm) = (x, x);
-                xp[j] += 1e-9;
-                xm[j] -= 1e-9;
-                let (fp, fm) = (eval(xp, v), eval(xm, v));
-                let (mut vp, mut vm) = (v, v);
-                vp[j] += 1e-4;
-                vm[j] -= 1e-4;
-                let (gp, gm) = (eval(x, vp), eval(x, vm));
-                for i in 0..4 {
-                    let fd = (fp[i] - fm[i]) / 2e-9;
-                    assert!(
-                        (fd - ks[i + 4 * j]).abs() <= 1e-6 * scale_s,
-                        "{expect} {i}{j}: {fd} vs {}",
-                        ks[i + 4 * j]
-                    );
-                    let fdv = (gp[i] - gm[i]) / 2e-4;
-                    assert!(
-                        (fdv - kd[i + 4 * j]).abs() <= 1e-6 * scale_d,
-                        "{expect} v {i}{j}: {fdv} vs {}",
-                        kd[i + 4 * j]
-                    );
-                }
-            }
+            assert_block(expect, &ks, &kd, x, v, (1e-9, 1e-4), (1e-6, 1e-6), eval);
         }
         // rolling: committed here, the piston and the point then move up together
         let law = ContactLaw { d_t: 0.0, ..law };

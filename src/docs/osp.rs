@@ -5,6 +5,13 @@
 //! variables: the typed groups of OSP-IS (Force, LinearVelocity, ...) require exact member
 //! counts and units per group, which a port mixing forces and moments (`load.fx` … `load.mz`)
 //! does not have.
+//!
+//! libcosim connects two `Generic` groups (`VariableGroupConnection` in
+//! `OspSystemStructure.xml`) member by member in the order they are listed, each pair from
+//! the output to the input. Members are therefore listed sorted by their name inside the
+//! port (`fx`, `fy`, `vx`, `vy`, `x`, `y`), not by causality, so that a motion port and the
+//! force port it drives (`boom`'s `tip` and `link`'s `pivot` in `ssp/boom_link/`) pair
+//! position with position and force with force.
 
 use super::terminals::Terminal;
 use super::xml_text::escape;
@@ -18,7 +25,9 @@ pub fn osp_model_description(terminals: &[Terminal]) -> String {
     );
     for t in terminals {
         s.push_str(&format!("    <Generic name=\"{}\">\n", escape(&t.name)));
-        for m in &t.members {
+        let mut members: Vec<_> = t.members.iter().collect();
+        members.sort_by(|a, b| a.member.cmp(&b.member));
+        for m in members {
             s.push_str(&format!(
                 "      <Variable ref=\"{}\"/>\n",
                 escape(&m.variable)

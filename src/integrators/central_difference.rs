@@ -4,7 +4,7 @@
 
 use super::state::DynState;
 use crate::model::{JacobianCoeffs, MechanicalSystem};
-use crate::solver::newton::{NewtonError, NewtonStats, Workspace, coeff_key};
+use crate::solver::newton::{NewtonError, NewtonStats, Workspace};
 
 /// The central-difference scheme.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -57,7 +57,7 @@ impl CentralDifference {
             ws.invalidate();
             ws.solver.factor(&ws.pattern, &ws.jac)?;
             if constant_mass {
-                ws.mark_factored(coeff_key(&MASS_ONLY));
+                ws.mark_factored(&MASS_ONLY);
             }
             stats.factorizations = 1;
         }

@@ -1,7 +1,7 @@
 //! The simulation driver: static initialization, consistent initial accelerations, and the
 //! advance over a communication step with internal substeps that are halved when Newton fails.
 
-use super::newton::{NewtonPolicy, NewtonSettings, NewtonStats, Workspace, coeff_key, scaled_max};
+use super::newton::{NewtonPolicy, NewtonSettings, NewtonStats, Workspace, scaled_max};
 use super::statics;
 use crate::integrators::{DynState, Integrator};
 use crate::linalg::SolverKind;
@@ -232,7 +232,7 @@ impl Simulation {
             .factor(&self.ws.pattern, &self.ws.jac)
             .map_err(|e| format!("mass matrix: {e}"))?;
         if self.model.constant_mass() {
-            self.ws.mark_factored(coeff_key(&coeffs));
+            self.ws.mark_factored(&coeffs);
         }
         let acc = &mut self.trial.acc;
         for i in 0..n {
@@ -527,7 +527,7 @@ impl Simulation {
             .factor(&self.ws.pattern, &self.ws.jac)
             .map_err(|e| e.to_string())?;
         if self.model.constant_mass() {
-            self.ws.mark_factored(coeff_key(&mass));
+            self.ws.mark_factored(&mass);
         }
         // deterministic start vector with all modes present
         let PowerScratch { k, x, y, .. } = &mut self.power;
