@@ -11,7 +11,7 @@
 
 use super::circle_friction::{self, Circle, ContactLaw, PointContact, PointHistory, PointState};
 use crate::snapshot::{SnapshotError, StateReader, StateWriter};
-use nalgebra::SVector;
+use nalgebra::{SVector, Vector3};
 
 /// Largest number of own coordinates an obstacle may have (a rigid body in space: 6).
 pub const MAX_OBSTACLE_COORDS: usize = 6;
@@ -55,6 +55,18 @@ pub trait ObstacleContact<const D: usize> {
 
     /// Power dissipated by normal damping [W].
     fn dissipation(&self) -> f64;
+
+    /// Moment of the force on the obstacle about its reference point [N m] (3D obstacles;
+    /// planar ones give their moment as the generalized force).
+    fn moment(&self) -> Vector3<f64> {
+        Vector3::zeros()
+    }
+
+    /// Force of the point on the obstacle's side faces (a pulley's flanges) along its axis
+    /// [N] (0 for obstacles without side faces).
+    fn side_force(&self) -> f64 {
+        0.0
+    }
 }
 
 /// Rigid geometry a contact point can touch, with its own coordinates.

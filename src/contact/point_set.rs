@@ -16,7 +16,7 @@ use super::obstacle::{
 use crate::assembly::Connectivity;
 use crate::model::JacobianCoeffs;
 use crate::snapshot::{StateReader, StateWriter};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{SMatrix, SVector, Vector3};
 
 /// Largest point-plus-obstacle dimension `D + N_COORDS` of an iteration block.
 const MAX_BLOCK: usize = 9;
@@ -28,6 +28,11 @@ pub struct ObstacleLoad<const D: usize> {
     pub force: SVector<f64, D>,
     /// Generalized forces on the obstacle's own coordinates (a pulley's torque [N m]).
     pub generalized: [f64; MAX_OBSTACLE_COORDS],
+    /// Moment of the body's forces on the obstacle about its reference point [N m]
+    /// ([`ObstacleContact::moment`]).
+    pub moment: Vector3<f64>,
+    /// Force of the body on the obstacle's side faces [N] ([`ObstacleContact::side_force`]).
+    pub side_force: f64,
 }
 
 impl<const D: usize> Default for ObstacleLoad<D> {
@@ -35,6 +40,8 @@ impl<const D: usize> Default for ObstacleLoad<D> {
         Self {
             force: SVector::zeros(),
             generalized: [0.0; MAX_OBSTACLE_COORDS],
+            moment: Vector3::zeros(),
+            side_force: 0.0,
         }
     }
 }
@@ -319,6 +326,8 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
                             load.generalized[l] += r.generalized_force(l);
                         }
                         load.force -= r.force();
+                        load.moment += r.moment();
+                        load.side_force += r.side_force();
                         book.slipping += r.slipping() as usize;
                         book.normal_energy += r.normal_energy();
                         book.dissipation += r.dissipation();

@@ -163,6 +163,7 @@ macro_rules! body_kind {
 pub mod air_spring;
 pub mod beam_2d;
 pub mod beam_3d;
+pub mod belt_3d;
 pub mod belt_drive;
 pub mod energy;
 pub mod shell;
