@@ -514,7 +514,7 @@ mod tests {
                 },
             },
         ];
-        let contact = crate::kinds::belt_drive::model::default_contact(
+        let mut contact = crate::kinds::belt_drive::model::default_contact(
             ea,
             0.1,
             t,
@@ -524,6 +524,9 @@ mod tests {
             0.4,
             (0.0, 0.0, 0.0),
         );
+        // the bristle this unbalanced start (no pre-load yet) was written for: the 2D drive's
+        // default moved to k_n/10 (creep), with which Newton fails at step 5 from this start
+        contact.k_t = 0.01 * contact.k_n;
         Belt3d::new(Belt3dSpec {
             section,
             thickness: t,
