@@ -156,12 +156,14 @@ fn coarse_belt() -> Scene {
     Scene::from_toml(&text).unwrap()
 }
 
-/// Belt drive with pulley 1 speeding up: the belt element count refined (24, 48, 96) at the
-/// scene's step, pulley2.angle to 0.05 rad over 0.1 s.
+/// Belt drive with pulley 1 speeding up: the belt element count refined (24, 48, 96, 192) at
+/// the scene's step, pulley2.angle to 0.05 rad over 0.1 s. Since the slip is taken on the pitch
+/// circle (issue 12) the differences 24-48-96 do not shrink yet (1.1e-3 then 2.2e-3: the
+/// advisor refuses); 48-96-192 converge at order 1.2.
 #[test]
 fn belt_drive_advice_is_checkable() {
     let scene = coarse_belt();
-    let mut opts = options("pulley2.angle", 5e-2, 3, 2);
+    let mut opts = options("pulley2.angle", 5e-2, 4, 3);
     opts.stop_time = Some(0.1);
     opts.inputs = Some(signals(&scene, "belt_ramp.csv"));
     opts.keep = [
