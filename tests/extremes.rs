@@ -230,10 +230,13 @@ fn error_control_keeps_large_steps_accurate() {
 }
 
 /// The pendulum for 100 s: Newmark's energy drift stays below 1e-3 of the exchanged energy
-/// (1.5 J of 1542 J), the midpoint rule's below 1e-6 J.
+/// (1.5 J of 1542 J), the midpoint rule's below 1e-5 J (1e-8 of it): the midpoint rule
+/// conserves energy up to where the Newton iteration stops. Measured 6.6e-6 J since substeps
+/// that differ from the factorized one by round-off keep the iteration matrix (modified Newton
+/// then stops at its tolerance instead of overshooting it with a fresh matrix: before, < 1e-6 J).
 #[test]
 fn pendulum_for_100_seconds() {
-    for (integrator, bound) in [(2, 1.5), (3, 1e-6)] {
+    for (integrator, bound) in [(2, 1.5), (3, 1e-5)] {
         let (mut inst, _) = instance("pendulum");
         set(&mut inst, "solver.integrator", Value::Integer(integrator));
         set(&mut inst, "mesh.n_elements", Value::Integer(4));
