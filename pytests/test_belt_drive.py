@@ -69,9 +69,11 @@ def test_impossible_layout_is_an_error_with_a_message(fmus):
 
 
 def test_mujoco_cosimulation_agrees_with_internal_inertias(fmus):
-    """Item 6: explicit exchange at 1 ms; steady speeds and torques within 1 %."""
+    """Item 6: explicit exchange at 0.25 ms; steady speeds and torques within 1 % (measured 5e-5).
+    Since the bristle is k_n/10 (issue 12, creep) the pulley-on-belt frequency is higher and the
+    explicit exchange at 1 ms goes unstable (speeds off by a factor 3; 0.5 ms: 12 %)."""
     import cosim_mujoco
 
-    a, b, rel = cosim_mujoco.compare(t_end=0.8, h=1e-3)
+    a, b, rel = cosim_mujoco.compare(t_end=0.8, h=2.5e-4)
     assert b[1] > 5.0 and b[3] > 1.0, b  # the drive runs and transmits torque
     assert (rel < 0.01).all(), (a, b, rel)
