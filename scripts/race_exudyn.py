@@ -39,8 +39,9 @@ Exudyn's residual and Jacobian (MainSolverImplicitSecondOrder.ComputeNewtonResid
 ComputeNewtonJacobian, timed from Python on 16 and 256 elements, the difference per element).
 
 Writes docs/race_exudyn.png (Pareto fronts), docs/race_exudyn.csv (every run) and prints the
-tables (markdown). Run: python scripts/race_exudyn.py [--quick] [--fresh]   (about 40 min on a loaded
-2-core machine; --quick: 3 min; the reference runs are cached in build/race/)
+tables (markdown). Run: python scripts/race_exudyn.py [--quick | --fine] [--fresh]   (about 40 min on a
+loaded 2-core machine; --quick: 3 min; --fine: the three finest error levels only, about 15 min,
+written to build/race/ instead of docs/; the reference runs are cached in build/race/)
 """
 import argparse
 import csv
@@ -243,6 +244,9 @@ def machine():
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="a small grid (smoke run)")
+    ap.add_argument("--fine", action="store_true",
+                    help="only the cells that decide the three finest error levels (1e-4, 3e-5, 1e-5 m): "
+                         "8, 16 and 32 elements at steps 2e-3 to 2.5e-4 s; full reference; writes build/race/")
     ap.add_argument("--fresh", action="store_true", help="recompute the cached reference runs")
     args = ap.parse_args()
     subprocess.run([str(ROOT / "scripts" / "build_fmus.sh")], check=True, stdout=subprocess.DEVNULL)
@@ -280,6 +284,13 @@ def main():
 
     counts = [2, 4, 8, 16] if args.quick else [2, 4, 8, 16, 32]
     steps = [2e-2, 5e-3, 1e-3] if args.quick else [2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]
+    levels = LEVELS
+    out_dir = DOCS
+    if args.fine:
+        counts, steps, levels = [8, 16, 32], [2e-3, 1e-3, 5e-4, 2.5e-4], LEVELS[-3:]
+        out_dir = ROOT / "build" / "race"
+        print(f"--fine: only {counts} elements x {steps} s steps, error levels {levels} m "
+              f"(a subset: the table and plot in docs/ are not touched)\n")
     fx_cfgs = [(i, nw, tol) for i in (1, 2) for nw in (2, 1) for tol in (1e-10, 1e-7, 1e-5)]
     ex_cfgs = [(s, m, tol, red) for s in ("alpha", "trapezoidal") for m in (True, False)
                for tol in (1e-8, 1e-6, 1e-4) for red in (False, True)]
@@ -313,7 +324,7 @@ def main():
                   f"(err {best['flexfmu']['error']:.1e}), exudyn {best['exudyn']['wall'] * 1e3:8.2f} ms "
                   f"(err {best['exudyn']['error']:.1e})", flush=True)
     fx.close()
-    csv_path = DOCS / "race_exudyn.csv"
+    csv_path = out_dir / "race_exudyn.csv"
     with open(csv_path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         w.writeheader()
@@ -322,7 +333,7 @@ def main():
     print("\n| tip error ≤ | flexfmu fastest | wall [ms] | Exudyn fastest | wall [ms] | Exudyn / flexfmu |")
     print("|---|---|---|---|---|---|")
     ratios = []
-    for lev in LEVELS:
+    for lev in levels:
         b = {}
         for prog in ("flexfmu", "exudyn"):
             ok = [r for r in rows if r["program"] == prog and r["error"] <= lev]
@@ -379,8 +390,8 @@ def main():
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(DOCS / "race_exudyn.png", dpi=120)
-    print(f"\nFiles: {csv_path}, {DOCS / 'race_exudyn.png'}")
+    fig.savefig(out_dir / "race_exudyn.png", dpi=120)
+    print(f"\nFiles: {csv_path}, {out_dir / 'race_exudyn.png'}")
 
 
 if __name__ == "__main__":

@@ -53,6 +53,10 @@ pub struct Knob {
     /// Keys `(code, table, key)` the advised scene file must not have when the knob takes
     /// `code` (options of one family that another family's scene check rejects).
     pub drops: &'static [(i32, &'static str, &'static str)],
+    /// The element families (codes of the family knob) the knob applies to; `None`: all. A
+    /// knob that does not apply to a family is not varied for it and not written into its
+    /// scene (the air spring's circumferential count is the shell level's only).
+    pub families: Option<&'static [i32]>,
 }
 
 impl Knob {
@@ -68,6 +72,21 @@ impl Knob {
                 names: None,
             },
             drops: &[],
+            families: None,
+        }
+    }
+
+    /// The same knob, applying to the given families only.
+    pub fn only_for(mut self, families: &'static [i32]) -> Self {
+        self.families = Some(families);
+        self
+    }
+
+    /// Whether the knob applies to `family` (`None`: the kind has no family knob).
+    pub fn applies_to(&self, family: Option<i32>) -> bool {
+        match (self.families, family) {
+            (Some(fs), Some(f)) => fs.contains(&f),
+            _ => true,
         }
     }
 

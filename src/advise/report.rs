@@ -104,8 +104,10 @@ pub fn csv(a: &Advice) -> String {
     );
     for (i, r) in a.runs.iter().enumerate() {
         let _ = write!(s, "{},{}", r.config.label(), family(r.config.family));
-        for (_, v) in &r.config.values {
-            let _ = write!(s, ",{}", show(*v));
+        for k in &a.knobs {
+            // empty where the knob does not apply to the run's family
+            let v = r.config.values.iter().find(|(n, _)| *n == k.param);
+            let _ = write!(s, ",{}", v.map(|(_, v)| show(*v)).unwrap_or_default());
         }
         let w = r.wall_per_second(span);
         let _ = writeln!(
@@ -158,16 +160,27 @@ pub fn markdown(a: &Advice) -> String {
     s
 }
 
-/// The advised scene: the original text with the chosen knob values set, a header comment
-/// saying where they come from. Checked: the new file parses and its parameter defaults are
-/// the chosen values.
+/// The advised scene: the original text (for another element family: the family's scene,
+/// [`super::study::family_scene`]) with the chosen knob values set, a header comment saying
+/// where they come from. Checked: the new file parses and its parameter defaults are the
+/// chosen values.
 pub fn advised_scene(scene: &Scene, a: &Advice) -> Result<String, String> {
     let i = a.chosen.ok_or(
         "no advice: no configuration meets the tolerance against a trusted converged answer (see the summary)",
     )?;
     let r = &a.runs[i];
-    let mut text = scene.text.clone();
-    for (k, (_, v)) in a.knobs.iter().zip(&r.config.values) {
+    let mut text = match r.config.family {
+        Some(code) if r.config.family != a.families[0].family => {
+            super::study::family_scene(scene, &a.knobs, code)?.text
+        }
+        _ => scene.text.clone(),
+    };
+    for (n, v) in &r.config.values {
+        let k = a
+            .knobs
+            .iter()
+            .find(|k| k.param == *n)
+            .expect("every value is a knob's");
         text = set_key(&text, k.key.table, k.key.key, &literal(&k.key, *v)?);
         for (code, table, key) in k.drops {
             if *v == crate::variables::Value::Integer(*code) {

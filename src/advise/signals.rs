@@ -114,6 +114,29 @@ impl Signals {
         Ok(Self { times, columns })
     }
 
+    /// The same signals against the inputs of another scene (an element family's scene,
+    /// whose inputs may be numbered differently): columns matched by name. Errors name the
+    /// column the scene lacks.
+    pub fn for_scene(&self, scene: &Scene) -> Result<Self, String> {
+        let vars = VariableTable::from_scene(scene);
+        let mut columns = Vec::with_capacity(self.columns.len());
+        for (_, name, values) in &self.columns {
+            match vars.by_name(name).map(|v| v.role) {
+                Some(Role::Input(k)) => columns.push((k, name.clone(), values.clone())),
+                _ => {
+                    return Err(format!(
+                        "`{name}` is not an input of scene `{}`",
+                        scene.model_name()
+                    ));
+                }
+            }
+        }
+        Ok(Self {
+            times: self.times.clone(),
+            columns,
+        })
+    }
+
     /// Column `c` at time `t`: value and slope of the piecewise linear interpolation (held
     /// constant, slope 0, outside the sampled times).
     pub fn at(&self, c: usize, t: f64) -> (f64, f64) {

@@ -208,7 +208,8 @@ pub fn max_difference(samples: &[f64], answer: &[f64]) -> f64 {
 /// order is p = log₂ r and the answer y* = y₃ + (y₃ − y₂)/(r − 1) at every time point
 /// (Richardson 1911; the observed-order form, e.g. Roache, "Verification and Validation in
 /// Computational Science and Engineering", 1998, ch. 5). Returns (answer, order, uncertainty
-/// ‖y* − y₃‖∞, warning). Without observed convergence (r ≤ 1.1) the answer is the finest run,
+/// ‖y* − y₃‖∞, warning). Runs that agree to round-off ([`ROUND_OFF`]) have converged: the
+/// answer is the finest run, without an order. Without observed convergence (r ≤ 1.1) the answer is the finest run,
 /// its uncertainty ‖y₃ − y₂‖∞, with a warning; an order below [`MIN_ORDER`] warns too (a
 /// family with a warning gets no advice).
 pub fn richardson(
@@ -218,8 +219,12 @@ pub fn richardson(
 ) -> (Vec<f64>, Option<f64>, f64, Option<String>) {
     let d12 = max_difference(y2, y1);
     let d23 = max_difference(y3, y2);
-    if d23 == 0.0 {
-        return (y3.to_vec(), None, 0.0, None);
+    // converged to round-off (a quasi-static model whose answer does not depend on the
+    // refined knob, e.g. the air spring's table level under the step ladder): the finest run
+    // is the answer
+    let size = y3.iter().fold(0.0f64, |m, y| m.max(y.abs()));
+    if d23 == 0.0 || (d23 <= ROUND_OFF * size && d12 <= ROUND_OFF * size) {
+        return (y3.to_vec(), None, d23, None);
     }
     let r = d12 / d23;
     if r.is_nan() || r <= 1.1 {
@@ -246,6 +251,11 @@ pub fn richardson(
     (answer, Some(p), d23 / (r - 1.0), warning)
 }
 
+/// Differences between refinement runs below this fraction of the output's largest magnitude
+/// count as round-off: the runs have converged (Richardson's ratio of two round-off
+/// differences means nothing).
+pub const ROUND_OFF: f64 = 1e-10;
+
 /// The smallest observed order at which the extrapolated answer is trusted (below it the
 /// three finest runs are not in the asymptotic range and the advisor gives no advice).
 pub const MIN_ORDER: f64 = 0.5;
@@ -266,8 +276,8 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
         .filter(|v| matches!(v.role, Role::Output(_)))
         .map(|v| v.name.as_str())
         .collect();
-    let output = match vars.by_name(&opts.output).map(|v| v.role) {
-        Some(Role::Output(k)) => k,
+    match vars.by_name(&opts.output).map(|v| v.role) {
+        Some(Role::Output(_)) => {}
         _ => {
             return Err(format!(
                 "--output {}: not an output of scene `{}`; its outputs are: {}",
@@ -276,7 +286,7 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
                 outputs.join(", ")
             ));
         }
-    };
+    }
     if !(opts.tol.is_finite() && opts.tol > 0.0) {
         return Err(format!(
             "--tol {}: the tolerance must be a positive finite number (in the unit of {})",
@@ -297,11 +307,16 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
         ));
     }
     let defaults = ParamValues::defaults(&scene.params);
+    // a knob is studied when some family's scene has it (the scene's own family first); the
+    // family knob must be a parameter of the scene itself
     let all: Vec<Knob> = scene
         .body
         .knobs()
         .into_iter()
-        .filter(|k| defaults.get(k.param).is_some())
+        .filter(|k| {
+            defaults.get(k.param).is_some()
+                || (!matches!(k.role, KnobRole::Family(_)) && k.families.is_some())
+        })
         .collect();
     for name in &opts.keep {
         if !all.iter().any(|k| k.param == name) {
@@ -312,13 +327,13 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
             ));
         }
     }
-    let knobs: Vec<Knob> = all
+    let wanted: Vec<Knob> = all
         .into_iter()
         .filter(|k| !opts.keep.iter().any(|n| n == k.param))
         .collect();
     let levels = opts.levels;
     let coarse = (levels - 1 - opts.finer) as i32;
-    let base_step = knobs
+    let base_step = wanted
         .iter()
         .find(|k| k.role == KnobRole::Step)
         .map(|k| defaults.real(k.param));
@@ -333,12 +348,12 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
         .collect();
 
     // the ladders
-    let scene_family = knobs.iter().find_map(|k| match k.role {
+    let scene_family = wanted.iter().find_map(|k| match k.role {
         KnobRole::Family(_) => Some(defaults.integer(k.param)),
         _ => None,
     });
     let mut families: Vec<Option<i32>> = vec![scene_family];
-    for k in &knobs {
+    for k in &wanted {
         if let KnobRole::Family(codes) = k.role {
             families.extend(
                 codes
@@ -348,6 +363,33 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
             );
         }
     }
+    // each family runs on its own scene file (the family key set, the other family's options
+    // removed, or the kind's own derivation), so that the kind's scene checks and table-driven
+    // model choices apply; a family whose scene is refused is left out with the reason
+    let mut dropped = Vec::new();
+    let mut scenes = vec![FamilyScene::new(scene_family, scene.clone(), opts)?];
+    for f in families.iter().skip(1) {
+        let code = f.expect("other families have codes");
+        match family_scene(scene, &wanted, code).and_then(|sc| FamilyScene::new(*f, sc, opts)) {
+            Ok(fs) => scenes.push(fs),
+            Err(e) => dropped.push(format!("family {code} left out: {e}")),
+        }
+    }
+    let families: Vec<Option<i32>> = scenes.iter().map(|f| f.family).collect();
+    // the knobs some family's scene has
+    let knobs: Vec<Knob> = wanted
+        .into_iter()
+        .filter(|k| scenes.iter().any(|f| f.has(k)))
+        .collect();
+    // whether a family's refinement refines a count (the table level has none)
+    let family_has_count = |f: Option<i32>| {
+        scenes.iter().any(|s| {
+            s.family == f
+                && knobs
+                    .iter()
+                    .any(|k| matches!(k.role, KnobRole::Count { .. }) && s.has(k))
+        })
+    };
     // variant combinations: every code of every variant knob (the scene's value included)
     let mut variants: Vec<Vec<(&'static str, Value)>> = vec![vec![]];
     for k in &knobs {
@@ -379,10 +421,12 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
         );
     }
     // a knob kept at the scene's value has one level, which every refinement level shares
-    let mesh_levels = if has_count {
-        0..levels
-    } else {
-        levels - 1..levels
+    let mesh_levels = |f: Option<i32>| {
+        if family_has_count(f) {
+            0..levels
+        } else {
+            levels - 1..levels
+        }
     };
     let step_levels = if has_step {
         0..levels
@@ -391,7 +435,11 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
     };
     let mut configs = Vec::new();
     for family in &families {
-        for m in mesh_levels.clone() {
+        let fs = scenes
+            .iter()
+            .find(|s| s.family == *family)
+            .expect("a scene per family");
+        for m in mesh_levels(*family) {
             for (vi, variant) in variants.iter().enumerate() {
                 let steps = step_levels.clone().map(|s| (s, None));
                 let adaptive = (0..levels)
@@ -399,7 +447,8 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
                     .map(|k| (0, Some(k)));
                 for (s, tl) in steps.chain(adaptive) {
                     let mut values = Vec::new();
-                    for k in &knobs {
+                    for k in knobs.iter().filter(|k| fs.has(k)) {
+                        let defaults = &fs.defaults;
                         let v = match k.role {
                             KnobRole::Family(_) => Value::Integer(family.expect("family knob")),
                             KnobRole::Variant(_) => {
@@ -444,24 +493,7 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
     }
     let configs = unique;
 
-    // each family runs on its own scene file (the family key set, the other family's options
-    // removed), so that the kind's scene checks and table-driven model choices apply; a family
-    // whose scene is refused is left out with the reason
-    let mut dropped = Vec::new();
-    let mut scenes: Vec<(Option<i32>, Scene)> = vec![(scene_family, scene.clone())];
-    for f in families.iter().skip(1) {
-        let code = f.expect("other families have codes");
-        match family_scene(scene, &knobs, code) {
-            Ok(sc) => scenes.push((*f, sc)),
-            Err(e) => dropped.push(format!("family {code} left out: {e}")),
-        }
-    }
-    let families: Vec<Option<i32>> = scenes.iter().map(|(f, _)| *f).collect();
-    let configs: Vec<Config> = configs
-        .into_iter()
-        .filter(|c| families.contains(&c.family))
-        .collect();
-    let results = run_all(&scenes, &configs, output, &times, opts)?;
+    let results = run_all(&scenes, &configs, &times, opts)?;
     let mut runs: Vec<Run> = configs
         .into_iter()
         .zip(results)
@@ -482,7 +514,7 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
                 r.config.family == *family
                     && r.config.scene_variant
                     && r.config.tol_level.is_none()
-                    && (!has_count || r.config.mesh_level == l)
+                    && (!family_has_count(*family) || r.config.mesh_level == l)
                     && (!has_step || r.config.step_level == l)
             })
         };
@@ -545,7 +577,7 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
                     r.config.family == f
                         && r.config.scene_variant
                         && r.config.tol_level.is_none()
-                        && (!has_count || r.config.mesh_level == l)
+                        && (!family_has_count(f) || r.config.mesh_level == l)
                         && (!has_step || r.config.step_level == l)
                 })
                 .expect("path runs kept");
@@ -594,10 +626,15 @@ pub fn advise(scene: &Scene, opts: &AdviseOptions) -> Result<Advice, String> {
     })
 }
 
-/// The scene of family `code`: the scene's text with the family knob set to `code` (and the
-/// keys it drops removed), parsed and checked.
+/// The scene of family `code`: the kind's derivation when it has one
+/// ([`crate::kinds::KindScene::family_scene`]), otherwise the scene's text with the family
+/// knob set to `code` (and the keys it drops removed); parsed and checked.
 pub fn family_scene(scene: &Scene, knobs: &[Knob], code: i32) -> Result<Scene, String> {
     use super::scene_edit::{literal, remove_key, set_key};
+    if let Some(derived) = scene.body.family_scene(&scene.text, code) {
+        let text = derived.map_err(|e| format!("its scene cannot be derived: {e}"))?;
+        return Scene::from_toml(&text).map_err(|e| format!("its scene is refused: {}", e.0));
+    }
     let mut text = scene.text.clone();
     for k in knobs
         .iter()
@@ -618,13 +655,55 @@ pub fn family_scene(scene: &Scene, knobs: &[Knob], code: i32) -> Result<Scene, S
     Scene::from_toml(&text).map_err(|e| format!("its scene is refused: {}", e.0))
 }
 
+/// One element family's scene with what the study needs of it.
+struct FamilyScene {
+    /// Family code (`None`: the kind has none).
+    family: Option<i32>,
+    /// The scene the family's runs start from.
+    scene: Scene,
+    /// Its parameter defaults.
+    defaults: ParamValues,
+    /// Index of the studied output among its outputs.
+    output: usize,
+    /// The input signals against its inputs.
+    signals: Option<Signals>,
+}
+
+impl FamilyScene {
+    fn new(family: Option<i32>, scene: Scene, opts: &AdviseOptions) -> Result<Self, String> {
+        let output = match VariableTable::from_scene(&scene)
+            .by_name(&opts.output)
+            .map(|v| v.role)
+        {
+            Some(Role::Output(k)) => k,
+            _ => return Err(format!("its scene has no output `{}`", opts.output)),
+        };
+        let signals = match &opts.inputs {
+            Some(s) => Some(s.for_scene(&scene)?),
+            None => None,
+        };
+        Ok(Self {
+            family,
+            defaults: ParamValues::defaults(&scene.params),
+            scene,
+            output,
+            signals,
+        })
+    }
+
+    /// Whether the knob is varied in this family's runs: it applies to the family and the
+    /// family's scene has the parameter.
+    fn has(&self, k: &Knob) -> bool {
+        k.applies_to(self.family) && self.defaults.get(k.param).is_some()
+    }
+}
+
 /// Runs every configuration on `opts.jobs` threads (largest estimated cost first), with a
 /// progress bar on stderr; returns (samples or failure, wall time of the stepping) by index.
 #[allow(clippy::type_complexity)]
 fn run_all(
-    scenes: &[(Option<i32>, Scene)],
+    scenes: &[FamilyScene],
     configs: &[Config],
-    output: usize,
     times: &[f64],
     opts: &AdviseOptions,
 ) -> Result<Vec<(Result<Vec<f64>, String>, f64)>, String> {
@@ -667,12 +746,17 @@ fn run_all(
                 loop {
                     let k = next.fetch_add(1, Ordering::SeqCst);
                     let Some(&i) = order.get(k) else { break };
-                    let scene = scenes
+                    let fs = scenes
                         .iter()
-                        .find(|(f, _)| *f == configs[i].family)
-                        .map(|(_, s)| s)
+                        .find(|f| f.family == configs[i].family)
                         .expect("a scene per family");
-                    let r = run_one(scene, &configs[i], output, times, opts.inputs.as_ref());
+                    let r = run_one(
+                        &fs.scene,
+                        &configs[i],
+                        fs.output,
+                        times,
+                        fs.signals.as_ref(),
+                    );
                     results.lock().expect("no panics while locked")[i] = Some(r);
                     progress(done.fetch_add(1, Ordering::SeqCst) + 1);
                 }

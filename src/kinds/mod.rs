@@ -25,7 +25,8 @@ macro_rules! body_kind {
             $(, smoke_test: |$sm:ident| $smoke:expr)?
             $(, initial_state: $istate:expr)?
             $(, build_to_restore: |$rs:ident, $rp:ident| $rbuild:expr)?
-            $(, knobs: |$kn:ident| $knobs:expr)? $(,)?
+            $(, knobs: |$kn:ident| $knobs:expr)?
+            $(, family_scene: |$fs:ident, $ftext:ident, $fcode:ident| $fscene:expr)? $(,)?
         }
     ) => {
         body_kind! {
@@ -58,7 +59,8 @@ macro_rules! body_kind {
             $(, smoke_test: |$sm:ident| $smoke:expr)?
             $(, initial_state: $istate:expr)?
             $(, build_to_restore: |$rs:ident, $rp:ident| $rbuild:expr)?
-            $(, knobs: |$kn:ident| $knobs:expr)? $(,)?
+            $(, knobs: |$kn:ident| $knobs:expr)?
+            $(, family_scene: |$fs:ident, $ftext:ident, $fcode:ident| $fscene:expr)? $(,)?
         }
     ) => {
         $(#[$doc])*
@@ -154,6 +156,17 @@ macro_rules! body_kind {
                 fn knobs(&self) -> Vec<$crate::advise::Knob> {
                     let $kn = self;
                     $knobs
+                }
+            )?
+
+            $(
+                fn family_scene(
+                    &self,
+                    text: &str,
+                    code: i32,
+                ) -> Option<Result<String, String>> {
+                    let ($fs, $ftext, $fcode) = (self, text, code);
+                    $fscene
                 }
             )?
         }
@@ -275,6 +288,14 @@ pub trait KindScene: Debug + Send + Sync + Any {
     /// knobs every kind has.
     fn knobs(&self) -> Vec<crate::advise::Knob> {
         crate::advise::solver_knobs()
+    }
+
+    /// The scene text of element family `code` (a value of the kind's family knob), derived
+    /// from this scene's text `text`, when setting the family key (and removing the keys the
+    /// knob drops) is not enough, e.g. when the family needs tables computed from this scene;
+    /// `None` (the default): setting the key is enough.
+    fn family_scene(&self, _text: &str, _code: i32) -> Option<Result<String, String>> {
+        None
     }
 }
 

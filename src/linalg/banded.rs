@@ -13,6 +13,10 @@ pub struct BandedLu {
     ldab: usize,
     ab: Vec<f64>,
     ipiv: Vec<usize>,
+    /// Upper bandwidth of the last factorization's `U`: `ku` plus the fill of row
+    /// interchanges, at most `kl + ku` (the back substitution skips the band above it, which
+    /// holds exact zeros).
+    ub: usize,
 }
 
 impl BandedLu {
@@ -26,6 +30,7 @@ impl BandedLu {
             ldab,
             ab: vec![0.0; ldab * n],
             ipiv: vec![0; n],
+            ub: kl + ku,
         }
     }
 
@@ -56,6 +61,7 @@ impl BandedLu {
         let tiny = scale * 1e-18;
         let (kl, kv) = (self.kl, self.kl + self.ku);
         let mut ju = 0usize;
+        let mut ub = self.ku;
         for j in 0..n {
             let km = kl.min(n - 1 - j);
             // pivot search in column j, rows j..=j+km
@@ -76,6 +82,7 @@ impl BandedLu {
                 });
             }
             ju = ju.max((j + self.ku + jp).min(n - 1));
+            ub = ub.max(ju - j);
             if jp != 0 {
                 for c in j..=ju {
                     let (a, b) = (self.at(j + jp, c), self.at(j, c));
@@ -103,13 +110,15 @@ impl BandedLu {
             }
             debug_assert!(kv >= self.ku);
         }
+        self.ub = ub.min(kv);
         Ok(())
     }
 
     /// Solves `A x = b` in place with the last factorization.
     pub fn solve_in_place(&self, b: &mut [f64]) {
         let n = self.n;
-        let kv = self.kl + self.ku;
+        // rows of U above j − ub in column j are zero: row j's entries reach column ju ≤ j + ub
+        let kv = self.ub;
         for j in 0..n {
             let l = self.ipiv[j];
             if l != j {

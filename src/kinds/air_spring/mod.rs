@@ -50,6 +50,7 @@ body_kind! {
         presets: |s| scene::presets(s),
         smoke_test: |s| scene::smoke_test(s),
         knobs: |s| scene::knobs(s),
+        family_scene: |s, text, code| scene::family_scene(s, text, code),
     }
 }
 
