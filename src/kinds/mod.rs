@@ -184,6 +184,7 @@ pub static REGISTRY: &[&dyn BodyKind] = &[
     &belt_drive::BeltDriveKind,
     &shell::ShellKind,
     &air_spring::AirSpringKind,
+    &belt_3d::Belt3dKind,
 ];
 
 /// The kind named `name` (the scene key `kind = "..."`).
