@@ -38,7 +38,8 @@ pub enum Output {
     /// `pulleyN.moment_x`, `_y` (component 0, 1): moment of the belt's contact forces about
     /// the pulley's centre [N m].
     PulleyMoment(usize, usize),
-    /// `pulleyN.flange_force`: sum of the flange forces' magnitudes on the pulley [N].
+    /// `pulleyN.flange_force`: axial force of the belt's edges on the pulley's flanges, signed
+    /// along its axis [N].
     FlangeForce(usize),
     /// `pulleyN.angle` of a free pulley [rad].
     PulleyAngle(usize),
@@ -476,7 +477,7 @@ pub fn io(s: &Belt3dScene) -> KindIo<Input, Output> {
         out(
             format!("pulley{n}.flange_force"),
             Unit::N,
-            "Force of the belt's edge on the pulley's flanges (sum of magnitudes)",
+            "Axial force of the belt's edges on the pulley's flanges (along the pulley axis, signed)",
             Output::FlangeForce(i),
         );
     }
