@@ -18,15 +18,16 @@ body_kind! {
         name: "belt_3d",
         summary: "closed belt of co-rotational 3D beam elements over pulleys in space (tilt, offset, crown, flanges) with friction contact",
         validation: include_str!("validation.txt"),
-        legacy: |_t| false,
+        legacy: |t| super::legacy_has_3d_belt(t),
     }
 }
 
-/// A `belt_3d` scene file (`kind = "belt_3d"` is required).
+/// A `belt_3d` scene file (`kind = "belt_3d"`; without it, a `[belt]` with a `width` or a
+/// `[[pulley]]` with a three-component `center` or a `width` says it).
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Belt3dScene {
-    /// `kind = "belt_3d"`.
+    /// `kind = "belt_3d"` (optional: the 3D belt tables say it).
     #[serde(default)]
     pub kind: Option<String>,
     /// FMU identity.

@@ -131,6 +131,9 @@ pub struct Belt3d {
     energy: EnergyBook,
     /// Pre-load report: Newton iterations of the static solves.
     preload_iterations: usize,
+    /// Angles [rad] at which free pulleys are held by a stiff bearing spring during static
+    /// solves (as the planar drive: a free pulley the belt does not touch is a mechanism).
+    held: Option<Vec<f64>>,
 }
 
 /// Input work and dissipation since the start [J], their rates at the last commit [W], and
@@ -312,6 +315,7 @@ impl Belt3d {
             n_points: 0,
             energy: EnergyBook::default(),
             preload_iterations: 0,
+            held: None,
         };
         me.signals = me
             .spec
@@ -625,10 +629,18 @@ impl Belt3d {
                 let d = self.pulley_dof[k];
                 let torque = self.signals[k].torque.at(t);
                 fw[d] += inertia * self.st.aw[d] + damping * self.st.vw[d] - lambda * torque;
+                let k_hold = match &self.held {
+                    Some(held) => {
+                        let k_hold = 1e3 * self.spec.section.ea * p.radius * p.radius;
+                        fw[d] += k_hold * (self.st.qw[d] - held[k]);
+                        k_hold
+                    }
+                    None => 0.0,
+                };
                 if let Some((c, vals)) = jac.as_mut() {
                     let i = self.st.asm.dofs.free_index(d).expect("free pulley");
                     let pos = self.st.asm.pattern.position(i, i).expect("diagonal");
-                    vals[pos] += c.mass * inertia + c.damping * damping;
+                    vals[pos] += c.mass * inertia + c.damping * damping + c.stiffness * k_hold;
                 }
             }
         }
@@ -740,7 +752,7 @@ impl Belt3d {
         let cfg = SolverConfig::from_params(p);
         m.preload_iterations = m.preload(Some(pretension), &cfg.newton).map_err(|e| {
             format!(
-                "{e} (belt.EA = {ea} N, belt.pretension = {pretension} N, belt.n_elements, contact.stiffness, the pulleys' radius, tilt and offset_z; solver.newton_tolerance, solver.max_iterations)"
+                "{e} (belt.EA = {ea} N, belt.EI, belt.EI_lateral, belt.GJ, belt.GA, belt.mass_per_length, belt.width, belt.thickness, belt.pretension = {pretension} N, belt.n_elements, contact.mu, contact.stiffness, contact.damping, contact.friction_stiffness, the pulleys' center, radius, width, crown, flange, tilt, skew and offset_z; solver.newton_tolerance, solver.max_iterations)"
             )
         })?;
         Ok(m)
@@ -1025,6 +1037,12 @@ impl MechanicalSystem for Belt3d {
 
     fn rebase(&mut self, q: &mut [f64]) {
         self.st.rebase(q);
+    }
+
+    /// Free pulleys held at their committed angles by a stiff bearing spring
+    /// (`10³ EA r²` [N m/rad]) while the belt is mounted.
+    fn hold_for_statics(&mut self, held: bool) {
+        self.held = held.then(|| self.pulley_dof.iter().map(|&d| self.st.q[d]).collect());
     }
 }
 

@@ -146,9 +146,6 @@ fn norm3(v: &[f64; 3]) -> f64 {
 /// Problems of a 3D belt scene.
 pub fn check(s: &Belt3dScene) -> Result<(), Vec<String>> {
     let mut errs = Vec::new();
-    if s.kind.as_deref() != Some("belt_3d") {
-        errs.push("kind: a 3D belt scene says kind = \"belt_3d\"".into());
-    }
     if s.pulley.len() < 2 || s.pulley.len() > MAX_PULLEYS {
         errs.push(format!(
             "[[pulley]]: a 3D belt needs 2 to {MAX_PULLEYS} pulleys, the scene has {}",
@@ -183,6 +180,16 @@ pub fn check(s: &Belt3dScene) -> Result<(), Vec<String>> {
         if p.mode == Pulley3dMode::Free && p.omega != 0.0 {
             errs.push(format!(
                 "{key}.omega: a free pulley starts at rest; omega is the input of a driven pulley"
+            ));
+        }
+    }
+    let np = s.pulley.len();
+    for i in 0..np {
+        let j = (i + 1) % np;
+        let (a, b) = (s.pulley[i].center, s.pulley[j].center);
+        if (j > i || np > 2) && a[0] == b[0] && a[1] == b[1] {
+            errs.push(format!(
+                "pulley[{j}].center: must differ in x, y from pulley[{i}].center (the belt is mounted in the plane z = 0)"
             ));
         }
     }
