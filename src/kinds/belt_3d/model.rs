@@ -175,7 +175,10 @@ impl Belt3d {
                     radius: p.radius + half_t,
                 })
                 .collect::<Vec<_>>(),
-        )?;
+        )
+        .map_err(|e| {
+            format!("pulley.center, pulley.radius (the pulleys' centres and radii): {e}")
+        })?;
         let obstacles: Vec<Pulley3d> = spec
             .pulleys
             .iter()
