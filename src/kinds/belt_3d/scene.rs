@@ -158,7 +158,7 @@ pub fn check(s: &Belt3dScene) -> Result<(), Vec<String>> {
             errs.push(format!("{key}.center, axis: must be finite numbers"));
         }
         let n = norm3(&p.axis);
-        if !(n > 0.0) || (p.axis[2] / n).abs() < 0.5 {
+        if n.is_nan() || n <= 0.0 || (p.axis[2] / n).abs() < 0.5 {
             errs.push(format!(
                 "{key}.axis: the belt is mounted in the plane z = 0; the nominal axis must be within 60 degrees of z (tilt it with `tilt`)"
             ));
