@@ -165,7 +165,25 @@ pub struct Corot3d {
     n_points: usize,
     end_mass: f64,
     end_inertia: Matrix3<f64>,
+    bowing: bool,
 }
+
+/// Bowing (shallow-arch) factor of one bending plane: the mean axial strain that the cubic
+/// Hermite centre line with local end rotations `θ1`, `θ2` adds to the chord strain,
+/// `b = (2θ1² − θ1θ2 + 2θ2²)/30` [1] (Crisfield 1991, *Non-linear finite element analysis of
+/// solids and structures* vol. 1, §7 shallow-arch strain `∫ ½ w'² dx / L` of the cubic), its
+/// gradient `[∂b/∂θ1, ∂b/∂θ2]` and (constant) Hessian `[[4, −1], [−1, 4]]/30`. For a circular
+/// arc of angle `Δφ` (`θ1 = −θ2 = Δφ/2`) `b = Δφ²/24`, which cancels the chord's
+/// `chord/arc − 1 ≈ −Δφ²/24`.
+pub fn bowing(t1: f64, t2: f64) -> (f64, Vector2<f64>) {
+    (
+        (2.0 * t1 * t1 - t1 * t2 + 2.0 * t2 * t2) / 30.0,
+        Vector2::new(4.0 * t1 - t2, 4.0 * t2 - t1) / 30.0,
+    )
+}
+
+/// Hessian of [`bowing`] with respect to `(θ1, θ2)` (constant).
+const BOWING_HESSIAN: [[f64; 2]; 2] = [[4.0 / 30.0, -1.0 / 30.0], [-1.0 / 30.0, 4.0 / 30.0]];
 
 /// Reference section frame `R0 = [e1 e2 e3]` of a chord from `x1` to `x2`: `e1` along the
 /// chord, `e2 = z_hint × e1/|…|`, `e3 = e1 × e2` (the local z axis is the hint made
@@ -313,7 +331,39 @@ impl Corot3d {
             n_points: n,
             end_mass,
             end_inertia,
+            bowing: false,
         }
+    }
+
+    /// The same element with (`true`) or without (`false`, the default and the seed's
+    /// formulation) the bowing term in the axial strain: `ε = ū/l0 + b(θ̄_1y, θ̄_2y) +
+    /// b(θ̄_1z, θ̄_2z)` with `b` of [`bowing`]. The chord measures the elongation of a straight
+    /// element; a belt wrapped on a pulley is an arc between its nodes, whose chord is short by
+    /// `Δφ²/24` of its length, which the term restores (issue 13: 36 elements on a drive of
+    /// EA = 5e4 N lost 170 N of a 200 N tension without it).
+    pub fn with_bowing(mut self, on: bool) -> Self {
+        self.bowing = on;
+        self
+    }
+
+    /// Whether the bowing term is on (see [`Corot3d::with_bowing`]).
+    pub fn has_bowing(&self) -> bool {
+        self.bowing
+    }
+
+    /// Effective elongation `ū + l0 (b_y + b_z)` [m] of a configuration's local deformations
+    /// (`ū` alone without the bowing term).
+    pub fn effective_elongation(&self, loc: &Local) -> f64 {
+        if !self.bowing {
+            return loc.u;
+        }
+        let [t1, t2] = loc.theta;
+        loc.u + self.l0 * (bowing(t1.y, t2.y).0 + bowing(t1.z, t2.z).0)
+    }
+
+    /// Axial force `N = EA ε` [N] of a configuration (with the bowing term if it is on).
+    pub fn axial_force(&self, n: &Nodes) -> f64 {
+        self.k_axial * self.effective_elongation(&self.local(n))
     }
 
     /// Reference length [m].
@@ -520,17 +570,24 @@ impl Corot3d {
     /// Local forces of the small-deformation beam (B.3): axial force `N = EA ū/l0` [N], local
     /// end moments `n_i` [N m] (torsion `∓GJ (θ̄_2x − θ̄_1x)/l0`, bending blocks per plane), and
     /// the strain energy `U = ½ pᵀ K_l p` [J].
+    /// With the bowing term the axial force `N = EA (ū/l0 + b)` also loads the end rotations:
+    /// `n_i += N l0 ∂b/∂θ̄_i` per bending plane.
     fn local_forces(&self, loc: &Local) -> (f64, [Vector3<f64>; 2], f64) {
         let [t1, t2] = loc.theta;
-        let nax = self.k_axial * loc.u;
+        let ue = self.effective_elongation(loc);
+        let nax = self.k_axial * ue;
         let tor = self.k_torsion * (t2.x - t1.x);
-        let by = self.k_bend_y * Vector2::new(t1.y, t2.y);
-        let bz = self.k_bend_z * Vector2::new(t1.z, t2.z);
+        let mut by = self.k_bend_y * Vector2::new(t1.y, t2.y);
+        let mut bz = self.k_bend_z * Vector2::new(t1.z, t2.z);
         let energy = 0.5
-            * (nax * loc.u
+            * (nax * ue
                 + tor * (t2.x - t1.x)
                 + by.dot(&Vector2::new(t1.y, t2.y))
                 + bz.dot(&Vector2::new(t1.z, t2.z)));
+        if self.bowing {
+            by += bowing(t1.y, t2.y).1 * (nax * self.l0);
+            bz += bowing(t1.z, t2.z).1 * (nax * self.l0);
+        }
         (
             nax,
             [
@@ -655,15 +712,33 @@ impl Corot3d {
             dth[i] = tangent_spatial_inv(&loc.theta[i]) * sel;
         }
         // Local forces' derivatives.
-        let dnax = dl * self.k_axial;
+        let mut dnax = dl * self.k_axial;
+        let th = &loc.theta;
+        if self.bowing {
+            for axis in 1..3 {
+                let g = bowing(th[0][axis], th[1][axis]).1;
+                dnax +=
+                    (dth[0].row(axis) * g.x + dth[1].row(axis) * g.y) * (self.k_axial * self.l0);
+            }
+        }
         let dtor = (dth[1].row(0) - dth[0].row(0)) * self.k_torsion;
         let mut dn = [M3x12::zeros(); 2];
         dn[0].set_row(0, &-dtor);
         dn[1].set_row(0, &dtor);
         for (axis, kb) in [(1usize, &self.k_bend_y), (2usize, &self.k_bend_z)] {
             let (a, b) = (dth[0].row(axis), dth[1].row(axis));
-            dn[0].set_row(axis, &(a * kb[(0, 0)] + b * kb[(0, 1)]));
-            dn[1].set_row(axis, &(a * kb[(1, 0)] + b * kb[(1, 1)]));
+            let mut r0 = a * kb[(0, 0)] + b * kb[(0, 1)];
+            let mut r1 = a * kb[(1, 0)] + b * kb[(1, 1)];
+            if self.bowing {
+                // n_i += N l0 ∂b/∂θ_i: derivative of N and of the gradient
+                let g = bowing(th[0][axis], th[1][axis]).1 * self.l0;
+                let hs = &BOWING_HESSIAN;
+                let nl0 = nax * self.l0;
+                r0 += dnax * g.x + (a * hs[0][0] + b * hs[0][1]) * nl0;
+                r1 += dnax * g.y + (a * hs[1][0] + b * hs[1][1]) * nl0;
+            }
+            dn[0].set_row(axis, &r0);
+            dn[1].set_row(axis, &r1);
         }
         let lam = [lam0, lam1];
         let mut dv = [M3x12::zeros(); 2];

@@ -197,6 +197,7 @@ pub static REGISTRY: &[&dyn BodyKind] = &[
     &belt_drive::BeltDriveKind,
     &shell::ShellKind,
     &air_spring::AirSpringKind,
+    &belt_3d::Belt3dKind,
 ];
 
 /// The kind named `name` (the scene key `kind = "..."`).
@@ -384,7 +385,32 @@ pub fn legacy_element_type(tables: &toml::Table) -> Option<&str> {
     tables.get("element")?.as_table()?.get("type")?.as_str()
 }
 
-/// Whether the legacy tables describe a belt drive (`[belt]` or `[[pulley]]` present).
+/// Whether the legacy tables describe a planar belt drive (`[belt]` or `[[pulley]]` present,
+/// and not the tables of a 3D belt: see [`legacy_has_3d_belt`]).
 pub fn legacy_has_belt(tables: &toml::Table) -> bool {
-    tables.contains_key("belt") || tables.contains_key("pulley")
+    (tables.contains_key("belt") || tables.contains_key("pulley")) && !legacy_has_3d_belt(tables)
+}
+
+/// Whether the tables are those of a 3D belt (kind `belt_3d`), which planar belt files never
+/// had: a `[belt]` with a `width`, or a `[[pulley]]` with a three-component `center` or a rim
+/// `width`.
+pub fn legacy_has_3d_belt(tables: &toml::Table) -> bool {
+    let belt_width = tables
+        .get("belt")
+        .and_then(|b| b.as_table())
+        .is_some_and(|b| b.contains_key("width"));
+    let pulley_3d = |p: &toml::Value| {
+        p.as_table().is_some_and(|p| {
+            p.contains_key("width")
+                || p.get("center")
+                    .and_then(|c| c.as_array())
+                    .is_some_and(|c| c.len() == 3)
+        })
+    };
+    let pulleys_3d = match tables.get("pulley") {
+        Some(toml::Value::Array(a)) => a.iter().any(pulley_3d),
+        Some(p) => pulley_3d(p),
+        None => false,
+    };
+    belt_width || pulleys_3d
 }

@@ -584,3 +584,63 @@ element_conformance!(conformance_euler_bernoulli_consistent, || case(
     Theory::EulerBernoulli,
     MassModel::Consistent
 ));
+
+/// The conformance case with the bowing term on (issue 13): the bent states have local
+/// rotations of a few tenths of a radian, so the term and its tangent are exercised.
+fn bowing_case(theory: Theory, mass: MassModel) -> Case<Corot3d, ELEMENT_DOFS> {
+    let mut c = case(theory, mass);
+    c.element = c.element.with_bowing(true);
+    c
+}
+
+element_conformance!(conformance_timoshenko_lumped_bowing, || bowing_case(
+    Theory::Timoshenko,
+    MassModel::Lumped
+));
+element_conformance!(conformance_euler_bernoulli_consistent_bowing, || {
+    bowing_case(Theory::EulerBernoulli, MassModel::Consistent)
+});
+
+/// Bowing term: an element whose nodes lie on a circle of radius R, 2π/36 apart, with the
+/// node frames along the circle's tangents (a belt mounted on a pulley at its stress-free
+/// length = the arc). Reference: the arc length R Δφ is the element's length, so the strain
+/// must vanish; the chord alone gives `2 sin(Δφ/2)/Δφ − 1 = −Δφ²/24 + Δφ⁴/1920` (Taylor
+/// series), the bowing term cancels the `Δφ²` part (Crisfield vol. 1 §7), leaving `Δφ⁴/1920`.
+#[test]
+fn bowing_restores_the_arc_length() {
+    let s = section();
+    let r = 0.1;
+    for (plane, axis) in [("z", Vector3::z()), ("y", Vector3::y())] {
+        for n_el in [36.0, 72.0] {
+            let dphi = 2.0 * std::f64::consts::PI / n_el;
+            let l0 = r * dphi;
+            // chord along x; the end tangents turned by ∓Δφ/2 about the bending axis
+            let half = 0.5 * dphi;
+            let chord = 2.0 * r * half.sin();
+            let nodes = Nodes {
+                x: [Vector3::zeros(), Vector3::new(chord, 0.0, 0.0)],
+                r: [exp_so3(&(axis * half)), exp_so3(&(-axis * half))],
+            };
+            let el = Corot3d::new(
+                l0,
+                Matrix3::identity(),
+                &s,
+                Theory::Timoshenko,
+                MassModel::Lumped,
+            );
+            let chord_strain = el.axial_force(&nodes) / s.ea;
+            let expect = 2.0 * half.sin() / dphi - 1.0;
+            assert!(
+                (chord_strain - expect).abs() < 1e-14,
+                "{plane}, {n_el}: chord strain {chord_strain:e} vs {expect:e}"
+            );
+            let bowed = el.with_bowing(true).axial_force(&nodes) / s.ea;
+            let residual = dphi.powi(4) / 1920.0;
+            assert!(
+                (bowed - residual).abs() < 0.05 * residual,
+                "{plane}, {n_el}: strain with bowing {bowed:e}, expected {residual:e} \
+                 (chord alone {chord_strain:e})"
+            );
+        }
+    }
+}

@@ -22,18 +22,26 @@
 //! only the nodes, which lie on the centre line, carry contact; each stands for one
 //! element length.
 
+use super::Belt3dScene;
+use super::scene::{Input, Output, PulleyInput};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet};
 use crate::contact::{ContactBook, ContactLaw, ContactPointSet, Pulley3d};
 use crate::elements::corotational3d::{
-    BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Theory,
+    BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Nodes, Theory,
 };
 use crate::elements::node_frames::NodeFrames;
 use crate::integrators::DynState;
+use crate::kinds::KindIo;
+use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
 use crate::meshers::belt_loop::{Loop, PitchCircle};
 use crate::model::framed::FramedState;
-use crate::model::{JacobianCoeffs, MechanicalSystem, ModelError};
-use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector2, Vector3};
+use crate::model::inputs::{InputSignal, prescribed};
+use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
+use crate::scene::ParamValues;
+use crate::snapshot::{StateReader, StateWriter};
+use crate::solver::simulation::SolverConfig;
+use nalgebra::{Matrix3, Rotation3, Unit, UnitQuaternion, Vector2, Vector3};
 
 /// How a 3D pulley moves.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,6 +101,9 @@ pub struct Belt3dSpec {
     pub pretension: f64,
     /// Gravity [m/s²].
     pub gravity: Vector3<f64>,
+    /// Bowing term in the elements' axial strain ([`Corot3d::with_bowing`]): the chord of an
+    /// element wrapped on a pulley is short of its arc by `Δφ²/24`; the term restores it.
+    pub bowing: bool,
 }
 
 /// The 3D belt-drive model.
@@ -106,6 +117,43 @@ pub struct Belt3d {
     scales: Vec<f64>,
     st: FramedState,
     book: ContactBook,
+    /// Middle of each span of the mounted path (span `i` from pulley `i` to `i + 1`) [m].
+    span_mid: Vec<Vector3<f64>>,
+    /// Span tensions of the committed state [N].
+    tensions: Vec<f64>,
+    /// Input signals of the pulleys.
+    signals: Vec<PulleySignals>,
+    /// The scene's inputs and outputs (empty for a model built from a spec).
+    roles: KindIo<Input, Output>,
+    /// Number of `belt.point[i]` outputs.
+    n_points: usize,
+    /// Energy book.
+    energy: EnergyBook,
+    /// Pre-load report: Newton iterations of the static solves.
+    preload_iterations: usize,
+    /// Angles [rad] at which free pulleys are held by a stiff bearing spring during static
+    /// solves (as the planar drive: a free pulley the belt does not touch is a mechanism).
+    held: Option<Vec<f64>>,
+}
+
+/// Input work and dissipation since the start [J], their rates at the last commit [W], and
+/// the time of that commit [s].
+#[derive(Clone, Copy, Debug, Default)]
+struct EnergyBook {
+    input_work: f64,
+    dissipated: f64,
+    p_in: f64,
+    p_diss: f64,
+    t: f64,
+}
+
+/// Input signals of one pulley (`pulleyN.angle`, `.omega` of a driven pulley, `.torque_in`
+/// of a free one).
+#[derive(Clone, Copy, Debug, Default)]
+struct PulleySignals {
+    angle: InputSignal,
+    omega: InputSignal,
+    torque: InputSignal,
 }
 
 impl Belt3d {
@@ -127,7 +175,10 @@ impl Belt3d {
                     radius: p.radius + half_t,
                 })
                 .collect::<Vec<_>>(),
-        )?;
+        )
+        .map_err(|e| {
+            format!("pulley.center, pulley.radius (the pulleys' centres and radii): {e}")
+        })?;
         let obstacles: Vec<Pulley3d> = spec
             .pulleys
             .iter()
@@ -201,7 +252,14 @@ impl Belt3d {
             &spec.section,
             Theory::Timoshenko,
             MassModel::Lumped,
-        );
+        )
+        .with_bowing(spec.bowing);
+        let span_mid = (0..lp.spans.len())
+            .map(|i| {
+                let m = lp.at(lp.span_middle(i)).r;
+                Vector3::new(m.x, m.y, 0.0)
+            })
+            .collect();
         let mut frames = NodeFrames::new((0..n).map(|k| k * NODE_DOFS + 3).collect());
         let width_dir = Vector3::z();
         let mut q0 = vec![0.0; n_full];
@@ -253,10 +311,145 @@ impl Belt3d {
             scales,
             st: FramedState::new(asm, frames, q0),
             book: ContactBook::default(),
+            span_mid,
+            tensions: vec![],
+            signals: vec![],
+            roles: KindIo::default(),
+            n_points: 0,
+            energy: EnergyBook::default(),
+            preload_iterations: 0,
+            held: None,
         };
+        me.signals = me
+            .spec
+            .pulleys
+            .iter()
+            .map(|p| match p.motion {
+                Pulley3dMotion::Driven { omega } => PulleySignals {
+                    omega: InputSignal::constant(omega),
+                    ..Default::default()
+                },
+                Pulley3dMotion::Free { torque, .. } => PulleySignals {
+                    torque: InputSignal::constant(torque),
+                    ..Default::default()
+                },
+            })
+            .collect();
         let (q, v) = (me.st.q.clone(), me.st.v.clone());
         me.contact.commit(&q, &v, true);
+        me.update_tensions();
         Ok(me)
+    }
+
+    /// Reference length of one element [m].
+    pub fn element_length(&self) -> f64 {
+        self.set.element(0).length()
+    }
+
+    /// Rebuilds the elements and contact points for reference length `l` [m] (all elements
+    /// share it; the pre-load corrects it).
+    pub fn set_reference_length(&mut self, l: f64) {
+        let el = Corot3d::new(
+            l,
+            Matrix3::identity(),
+            &self.spec.section,
+            Theory::Timoshenko,
+            MassModel::Lumped,
+        )
+        .with_bowing(self.spec.bowing);
+        self.set.set_elements(vec![el]);
+        self.contact.set_points(vec![[1.0, 0.0]], l);
+    }
+
+    /// Axial force of element `e` in the committed state [N] (with the bowing term if on).
+    pub fn element_tension(&self, e: usize) -> f64 {
+        let n = self.n_nodes;
+        let (a, b) = (e % n, (e + 1) % n);
+        let nodes = Nodes {
+            x: [self.node_position(a), self.node_position(b)],
+            r: [
+                self.st.frames.rotation(a, &self.st.q),
+                self.st.frames.rotation(b, &self.st.q),
+            ],
+        };
+        self.set.element(0).axial_force(&nodes)
+    }
+
+    /// Span tensions of the committed state [N]: the mean axial force of the three elements
+    /// nearest to the middle of each span of the mounted path (as the planar drive).
+    pub fn span_tensions(&self) -> &[f64] {
+        &self.tensions
+    }
+
+    fn update_tensions(&mut self) {
+        let n = self.n_nodes;
+        self.tensions = self
+            .span_mid
+            .iter()
+            .map(|m| {
+                let mut best = (f64::INFINITY, 0);
+                for e in 0..n {
+                    let mid = 0.5 * (self.node_position(e) + self.node_position((e + 1) % n));
+                    let d = (mid - m).norm();
+                    if d < best.0 {
+                        best = (d, e);
+                    }
+                }
+                let e = best.1;
+                (self.element_tension((e + n - 1) % n)
+                    + self.element_tension(e)
+                    + self.element_tension((e + 1) % n))
+                    / 3.0
+            })
+            .collect();
+    }
+
+    /// Mean speed of the belt nodes in the committed state [m/s].
+    pub fn belt_speed(&self) -> f64 {
+        (0..self.n_nodes)
+            .map(|k| {
+                Vector3::from_column_slice(&self.st.v[k * NODE_DOFS..k * NODE_DOFS + 3]).norm()
+            })
+            .sum::<f64>()
+            / self.n_nodes as f64
+    }
+
+    /// Static equilibrium of the mounted belt (pulleys at rest, free pulleys held by their
+    /// belt contact), then, if `pretension` is given, the reference length corrected until
+    /// the mean span tension is it within 0.1 % (at most 5 solves, as the planar drive's
+    /// pre-load). Returns the Newton iterations.
+    pub fn preload(
+        &mut self,
+        pretension: Option<f64>,
+        settings: &crate::solver::newton::NewtonSettings,
+    ) -> Result<usize, String> {
+        use crate::solver::newton::Workspace;
+        let mut ws =
+            Workspace::new(&*self, crate::linalg::SolverKind::Auto).map_err(|e| e.to_string())?;
+        let n = self.n_free();
+        let (mut qf, mut vf) = (vec![0.0; n], vec![0.0; n]);
+        let mut iterations = 0;
+        for round in 0..5 {
+            self.free_state(&mut qf, &mut vf);
+            let st = crate::solver::statics::solve(self, &mut ws, &mut qf, settings, 8)
+                .map_err(|e| format!("static pre-load of the 3D belt: {e}"))?;
+            iterations += st.newton.iterations;
+            let mut state = DynState::zeros(n, self.st.t);
+            state.q.copy_from_slice(&qf);
+            self.st.accept(&mut state, |_, _, _| {});
+            let (q, v) = (self.st.q.clone(), self.st.v.clone());
+            self.contact.commit(&q, &v, true);
+            self.update_tensions();
+            let Some(target) = pretension else { break };
+            let mean = self.tensions.iter().sum::<f64>() / self.tensions.len().max(1) as f64;
+            if (mean - target).abs() <= 1e-3 * target || round == 4 {
+                break;
+            }
+            let ea = self.spec.section.ea;
+            let l = self.element_length() * (1.0 + mean / ea) / (1.0 + target / ea);
+            self.set_reference_length(l);
+        }
+        Ok(iterations)
     }
 
     /// Number of belt nodes (= elements).
@@ -281,7 +474,7 @@ impl Belt3d {
         (l.force, l.moment, l.generalized[0], l.side_force)
     }
 
-    /// Mean lateral (axial) position of the belt's contact points on pulley `k` [m] (NaN if
+    /// Mean lateral (axial) position of the belt's contact points on pulley `k` [m] (0 if
     /// none touches).
     pub fn lateral(&self, k: usize) -> f64 {
         let ob = &self.contact.obstacles()[k];
@@ -297,7 +490,7 @@ impl Belt3d {
                 count += 1;
             }
         }
-        sum / count as f64
+        if count == 0 { 0.0 } else { sum / count as f64 }
     }
 
     /// Energy terms of the contact at the last commit.
@@ -316,50 +509,87 @@ impl Belt3d {
             .kinetic_energy(&self.st.q, &self.st.v, Some(&self.st.frames))
     }
 
+    /// Prescribed angle, speed and acceleration of driven pulley `k` at time `t` (the angle
+    /// input's polynomial if it has derivatives, else the angle advanced with the speed).
+    fn driven(&self, k: usize, t: f64) -> (f64, f64, f64) {
+        let sg = &self.signals[k];
+        prescribed(&sg.angle, &sg.omega, t)
+    }
+
     /// Sets the driven pulleys' angles and speeds at time `t` into full vectors.
     fn prescribe(&self, t: f64, q: Option<&mut [f64]>, v: Option<&mut [f64]>) {
         let (mut q, mut v) = (q, v);
         for (k, p) in self.spec.pulleys.iter().enumerate() {
-            if let Pulley3dMotion::Driven { omega } = p.motion {
+            if let Pulley3dMotion::Driven { .. } = p.motion {
+                let (th, om, _) = self.driven(k, t);
                 if let Some(q) = q.as_deref_mut() {
-                    q[self.pulley_dof[k]] = omega * t;
+                    q[self.pulley_dof[k]] = th;
                 }
                 if let Some(v) = v.as_deref_mut() {
-                    v[self.pulley_dof[k]] = omega;
+                    v[self.pulley_dof[k]] = om;
                 }
             }
         }
     }
 
-    /// Commits an accepted state: node rotations absorbed, contact histories and loads.
+    /// Commits an accepted state: node rotations absorbed, contact histories and loads,
+    /// span tensions, energy book.
     pub fn accept(&mut self, state: &mut DynState) {
         let t = state.t;
-        let driven: Vec<(usize, f64)> = self
+        let driven: Vec<(usize, (f64, f64, f64))> = self
             .spec
             .pulleys
             .iter()
-            .zip(&self.pulley_dof)
-            .filter_map(|(p, &d)| match p.motion {
-                Pulley3dMotion::Driven { omega } => Some((d, omega)),
-                Pulley3dMotion::Free { .. } => None,
-            })
+            .enumerate()
+            .filter(|(_, p)| matches!(p.motion, Pulley3dMotion::Driven { .. }))
+            .map(|(k, _)| (self.pulley_dof[k], self.driven(k, t)))
             .collect();
         self.st.accept(state, |q, v, a| {
             let (mut q, mut v, mut a) = (q, v, a);
-            for &(d, omega) in &driven {
+            for &(d, (th, om, al)) in &driven {
                 if let Some(q) = q.as_deref_mut() {
-                    q[d] = omega * t;
+                    q[d] = th;
                 }
                 if let Some(v) = v.as_deref_mut() {
-                    v[d] = omega;
+                    v[d] = om;
                 }
                 if let Some(a) = a.as_deref_mut() {
-                    a[d] = 0.0;
+                    a[d] = al;
                 }
             }
         });
         // positions and pulley angles, all the contact uses, are unchanged by the absorption
         self.book = self.contact.commit(&self.st.q, &self.st.v, false);
+        self.update_tensions();
+        self.book_energy(t, false);
+    }
+
+    /// Input power (drives and input torques) and dissipated power (contact damping,
+    /// bearings) of the committed state [W], integrated by the trapezoidal rule from the
+    /// previous commit (plus the friction work of the step).
+    fn book_energy(&mut self, t: f64, initial: bool) {
+        let (mut p_in, mut p_diss) = (0.0, self.book.dissipation);
+        for (k, p) in self.spec.pulleys.iter().enumerate() {
+            let om = self.st.v[self.pulley_dof[k]];
+            match p.motion {
+                Pulley3dMotion::Driven { .. } => {
+                    p_in -= self.contact.loads()[k].generalized[0] * om
+                }
+                Pulley3dMotion::Free { damping, .. } => {
+                    p_in += self.signals[k].torque.at(t) * om;
+                    p_diss += damping * om * om;
+                }
+            }
+        }
+        let e = &mut self.energy;
+        let h = t - e.t;
+        if !initial && h > 0.0 {
+            e.input_work += 0.5 * h * (e.p_in + p_in);
+            e.dissipated += 0.5 * h * (e.p_diss + p_diss) + self.book.friction_work;
+        }
+        e.p_in = p_in;
+        e.p_diss = p_diss;
+        e.t = t;
     }
 
     /// The committed free coordinates and velocities.
@@ -396,22 +626,372 @@ impl Belt3d {
             .add_residual(&self.st.qw, &self.st.vw, &mut fw, cjac);
         for (k, p) in self.spec.pulleys.iter().enumerate() {
             if let Pulley3dMotion::Free {
-                inertia,
-                damping,
-                torque,
+                inertia, damping, ..
             } = p.motion
             {
                 let d = self.pulley_dof[k];
+                let torque = self.signals[k].torque.at(t);
                 fw[d] += inertia * self.st.aw[d] + damping * self.st.vw[d] - lambda * torque;
+                let k_hold = match &self.held {
+                    Some(held) => {
+                        let k_hold = 1e3 * self.spec.section.ea * p.radius * p.radius;
+                        fw[d] += k_hold * (self.st.qw[d] - held[k]);
+                        k_hold
+                    }
+                    None => 0.0,
+                };
                 if let Some((c, vals)) = jac.as_mut() {
                     let i = self.st.asm.dofs.free_index(d).expect("free pulley");
                     let pos = self.st.asm.pattern.position(i, i).expect("diagonal");
-                    vals[pos] += c.mass * inertia + c.damping * damping;
+                    vals[pos] += c.mass * inertia + c.damping * damping + c.stiffness * k_hold;
                 }
             }
         }
         self.st
             .finish_assembly(fw, r, jac.as_ref().map(|(_, vals)| &**vals))
+    }
+}
+
+impl Belt3d {
+    /// Builds the model of a `belt_3d` scene with validated parameter values and brings the
+    /// mounted belt into static equilibrium with its pre-tension.
+    pub fn build(scene: &Belt3dScene, p: &ParamValues) -> Result<Self, String> {
+        use super::scene::names::*;
+        use super::scene::*;
+        use crate::scene::params::names::{GRAVITY_X, GRAVITY_Y, GRAVITY_Z};
+        let (ea, width, thickness) = (p.real(BELT_EA), p.real(BELT_WIDTH), p.real(BELT_THICKNESS));
+        let mass = p.real(BELT_MASS);
+        let ga = p.real(BELT_GA);
+        let rho = mass / (width * thickness);
+        let section = BeamSection {
+            ea,
+            ga_y: ga,
+            ga_z: ga,
+            gj: p.real(BELT_GJ),
+            // node frames [t, a × t, a]: local y is the thickness direction, local z the
+            // width axis, so bending over the pulleys is about z, lateral bending about y
+            ei_y: p.real(BELT_EI_LATERAL),
+            ei_z: p.real(BELT_EI),
+            rho_a: mass,
+            rho_jx: rho * width * thickness * (width * width + thickness * thickness) / 12.0,
+            rho_iy: rho * width * thickness * width * width / 12.0,
+            rho_iz: rho * width * thickness * thickness * thickness / 12.0,
+        };
+        let centers: Vec<Vector3<f64>> = scene
+            .pulley
+            .iter()
+            .map(|s| Vector3::from(s.center))
+            .collect();
+        let np = centers.len();
+        let pulleys: Vec<Pulley3dDef> = scene
+            .pulley
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                let prev = centers[(i + np - 1) % np];
+                let span = Vector3::new(centers[i].x - prev.x, centers[i].y - prev.y, 0.0);
+                let axis0 = Vector3::from(s.axis).normalize();
+                let (tilt, skew) = (p.real(PULLEY_TILT[i]), p.real(PULLEY_SKEW[i]));
+                let mut axis = axis0;
+                if span.norm() > 0.0 {
+                    let along = Unit::new_normalize(span);
+                    let across = Unit::new_normalize(Vector3::z().cross(&span));
+                    axis = Rotation3::from_axis_angle(&across, skew)
+                        * Rotation3::from_axis_angle(&along, tilt)
+                        * axis;
+                }
+                Pulley3dDef {
+                    center: centers[i] + p.real(PULLEY_OFFSET[i]) * axis,
+                    axis,
+                    radius: p.real(PULLEY_RADIUS[i]),
+                    rim_width: p.real(PULLEY_WIDTH[i]),
+                    crown: p.real(PULLEY_CROWN[i]),
+                    flange: p.real(PULLEY_FLANGE[i]),
+                    motion: match s.mode {
+                        super::Pulley3dMode::Driven => Pulley3dMotion::Driven { omega: s.omega },
+                        super::Pulley3dMode::Free => Pulley3dMotion::Free {
+                            inertia: p.real(PULLEY_INERTIA[i]),
+                            damping: p.real(PULLEY_DAMPING[i]),
+                            torque: s.torque_in,
+                        },
+                    },
+                }
+            })
+            .collect();
+        let r_min = pulleys
+            .iter()
+            .map(|p| p.radius)
+            .fold(f64::INFINITY, f64::min);
+        let r_max = pulleys.iter().map(|p| p.radius).fold(0.0, f64::max);
+        let pretension = p.real(BELT_PRETENSION);
+        let contact = crate::kinds::belt_drive::model::default_contact(
+            ea,
+            mass,
+            thickness,
+            r_min + 0.5 * thickness,
+            r_max + 0.5 * thickness,
+            pretension,
+            p.real(CONTACT_MU),
+            (
+                p.real(CONTACT_STIFFNESS),
+                p.real(CONTACT_DAMPING),
+                p.real(CONTACT_FRICTION_STIFFNESS),
+            ),
+        );
+        let g = |name: &str| p.get(name).map_or(0.0, |_| p.real(name));
+        let mut m = Self::new(Belt3dSpec {
+            section,
+            thickness,
+            width,
+            pulleys,
+            contact,
+            n_elements: p.integer(BELT_N_ELEMENTS) as usize,
+            pretension,
+            gravity: Vector3::new(g(GRAVITY_X), g(GRAVITY_Y), g(GRAVITY_Z)),
+            bowing: p.boolean(BELT_BOWING),
+        })?;
+        m.roles = io(scene);
+        m.n_points = belt_points(scene);
+        let cfg = SolverConfig::from_params(p);
+        m.preload_iterations = m.preload(Some(pretension), &cfg.newton).map_err(|e| {
+            format!(
+                "{e} (belt.EA = {ea} N, belt.EI, belt.EI_lateral, belt.GJ, belt.GA, belt.mass_per_length, belt.width, belt.thickness, belt.pretension = {pretension} N, belt.n_elements, contact.mu, contact.stiffness, contact.damping, contact.friction_stiffness, the pulleys' center, radius, width, crown, flange, tilt, skew and offset_z; solver.newton_tolerance, solver.max_iterations)"
+            )
+        })?;
+        Ok(m)
+    }
+
+    /// Newton iterations of the static pre-load.
+    pub fn preload_iterations(&self) -> usize {
+        self.preload_iterations
+    }
+
+    /// Sets a pulley input (the typed form of `Model::set_input`).
+    pub fn set_pulley_input(&mut self, pulley: usize, quantity: PulleyInput, value: f64) {
+        let t = self.st.t;
+        let sg = &mut self.signals[pulley];
+        match quantity {
+            PulleyInput::Angle => sg.angle.set(value, t),
+            PulleyInput::Omega => sg.omega.set(value, t),
+            PulleyInput::Torque => sg.torque.set(value, t),
+        }
+    }
+
+    /// Belt centre-line point at material fraction `u ∈ [0, 1)` of the loop (the elements'
+    /// cubic Hermite centre line) [m].
+    pub fn belt_point(&self, u: f64) -> Vector3<f64> {
+        let n = self.n_nodes;
+        let sfrac = u.rem_euclid(1.0) * n as f64;
+        let e = (sfrac.floor() as usize).min(n - 1);
+        let (a, b) = (e, (e + 1) % n);
+        let nodes = Nodes {
+            x: [self.node_position(a), self.node_position(b)],
+            r: [
+                self.st.frames.rotation(a, &self.st.q),
+                self.st.frames.rotation(b, &self.st.q),
+            ],
+        };
+        self.set.element(0).centre_line(&nodes, sfrac - e as f64)
+    }
+
+    /// `1 − ω_last ρ_last / (ω_1 ρ_1)` (0 while pulley 1 is at rest).
+    pub fn slip(&self) -> f64 {
+        let ob = self.contact.obstacles();
+        let last = ob.len() - 1;
+        let v1 = self.st.v[self.pulley_dof[0]] * ob[0].radius;
+        let vn = self.st.v[self.pulley_dof[last]] * ob[last].radius;
+        if v1.abs() > 1e-12 { 1.0 - vn / v1 } else { 0.0 }
+    }
+
+    /// Kinetic energy of belt and free pulleys [J].
+    pub fn total_kinetic_energy(&self) -> f64 {
+        let mut t = self.kinetic_energy();
+        for (k, p) in self.spec.pulleys.iter().enumerate() {
+            if let Pulley3dMotion::Free { inertia, .. } = p.motion {
+                t += 0.5 * inertia * self.st.v[self.pulley_dof[k]].powi(2);
+            }
+        }
+        t
+    }
+
+    /// Gravity potential of the belt's mass points [J].
+    pub fn potential_energy(&self) -> f64 {
+        let n = self.n_nodes;
+        let el = self.set.element(0);
+        (0..n)
+            .map(|e| {
+                let (a, b) = (e, (e + 1) % n);
+                let nodes = Nodes {
+                    x: [self.node_position(a), self.node_position(b)],
+                    r: [
+                        self.st.frames.rotation(a, &self.st.q),
+                        self.st.frames.rotation(b, &self.st.q),
+                    ],
+                };
+                el.gravity_potential(&nodes, &self.spec.gravity)
+            })
+            .sum()
+    }
+
+    /// Work of the drives and input torques since the start [J].
+    pub fn input_work(&self) -> f64 {
+        self.energy.input_work
+    }
+
+    /// Energy dissipated since the start by contact damping, friction and bearings [J].
+    pub fn dissipated(&self) -> f64 {
+        self.energy.dissipated
+    }
+
+    /// An output of the committed state.
+    pub fn output_of(&self, kind: Output) -> f64 {
+        let tmax = || {
+            self.tensions
+                .iter()
+                .copied()
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let tmin = || self.tensions.iter().copied().fold(f64::INFINITY, f64::min);
+        match kind {
+            Output::PulleyTorque(k) => self.contact.loads()[k].generalized[0],
+            Output::PulleyForce(k, c) => self.contact.loads()[k].force[c],
+            Output::PulleyMoment(k, c) => self.contact.loads()[k].moment[c],
+            Output::FlangeForce(k) => self.contact.loads()[k].side_force,
+            Output::PulleyAngle(k) => self.st.q[self.pulley_dof[k]],
+            Output::PulleyOmega(k) => self.st.v[self.pulley_dof[k]],
+            Output::Lateral(k) => self.lateral(k),
+            Output::TensionTight => tmax(),
+            Output::TensionSlack => tmin(),
+            Output::Slip => self.slip(),
+            Output::Speed => self.belt_speed(),
+            Output::Point(i, c) => self.belt_point(i as f64 / self.n_points.max(1) as f64)[c],
+            Output::InputWork => self.energy.input_work,
+            Output::Dissipated => self.energy.dissipated,
+            Output::Energy(e) => {
+                let strain = || self.strain_energy() + self.book.normal_energy;
+                match e {
+                    EnergyKind::Kinetic => self.total_kinetic_energy(),
+                    EnergyKind::Strain => strain(),
+                    EnergyKind::Potential => self.potential_energy(),
+                    EnergyKind::Total => {
+                        self.total_kinetic_energy() + strain() + self.potential_energy()
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl Model for Belt3d {
+    /// The belt's centre line and each pulley's rim circle.
+    fn sketch(&self) -> crate::model::Sketch {
+        let mut s = crate::model::Sketch::new(format!(
+            "{} seed-003 co-rotational belt elements, {} pulleys in space",
+            self.n_nodes,
+            self.spec.pulleys.len()
+        ));
+        let n = 4 * self.n_nodes;
+        s.line((0..=n).map(|i| self.belt_point(i as f64 / n as f64)));
+        for ob in self.contact.obstacles() {
+            s.circle(ob.center, ob.radius, ob.axis);
+        }
+        s
+    }
+
+    fn set_input(&mut self, input: usize, value: f64) {
+        let Input { pulley, quantity } = self.roles.inputs[input];
+        self.set_pulley_input(pulley, quantity, value);
+    }
+
+    fn set_input_derivative(
+        &mut self,
+        input: usize,
+        order: usize,
+        value: f64,
+    ) -> Result<(), String> {
+        if !(1..=2).contains(&order) {
+            return Err(format!("derivative order {order} not supported (1 or 2)"));
+        }
+        let Input { pulley, quantity } = self.roles.inputs[input];
+        let sg = &mut self.signals[pulley];
+        match quantity {
+            PulleyInput::Angle => sg.angle.set_derivative(order, value),
+            PulleyInput::Omega => sg.omega.set_derivative(order, value),
+            PulleyInput::Torque => sg.torque.set_derivative(order, value),
+        }
+        Ok(())
+    }
+
+    fn output(&self, output: usize) -> f64 {
+        self.output_of(self.roles.outputs[output])
+    }
+
+    /// Analytic for the free pulleys' angle and speed; the others by differences.
+    fn output_derivative(&self, output: usize) -> Option<f64> {
+        match self.roles.outputs[output] {
+            Output::PulleyAngle(k) => Some(self.st.v[self.pulley_dof[k]]),
+            Output::PulleyOmega(k) => Some(self.st.acc[self.pulley_dof[k]]),
+            _ => None,
+        }
+    }
+
+    fn accept(&mut self, state: &mut DynState) {
+        Belt3d::accept(self, state);
+    }
+
+    fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
+        self.st.free_state(q, v);
+    }
+
+    /// Committed state and node orientations, reference length, contact histories, input
+    /// signals and energy book.
+    fn save(&self, w: &mut StateWriter) -> Result<(), String> {
+        self.st.save(w);
+        w.f64(self.element_length());
+        self.contact.save(w);
+        w.u64(self.signals.len() as u64);
+        for sg in &self.signals {
+            sg.angle.save(w);
+            sg.omega.save(w);
+            sg.torque.save(w);
+        }
+        let e = &self.energy;
+        for x in [e.input_work, e.dissipated, e.p_in, e.p_diss, e.t] {
+            w.f64(x);
+        }
+        Ok(())
+    }
+
+    fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
+        let e = |e: crate::snapshot::SnapshotError| e.to_string();
+        self.st.restore(r)?;
+        let l = r.f64().map_err(e)?;
+        if !(l.is_finite() && l > 0.0) {
+            return Err(format!("reference length {l} in the state"));
+        }
+        self.set_reference_length(l);
+        self.contact.restore(r)?;
+        if r.u64().map_err(e)? as usize != self.signals.len() {
+            return Err("pulleys of another drive".into());
+        }
+        for sg in self.signals.iter_mut() {
+            sg.angle = InputSignal::restore(r).map_err(e)?;
+            sg.omega = InputSignal::restore(r).map_err(e)?;
+            sg.torque = InputSignal::restore(r).map_err(e)?;
+        }
+        let mut x = [0.0; 5];
+        for v in x.iter_mut() {
+            *v = r.f64().map_err(e)?;
+        }
+        self.energy = EnergyBook {
+            input_work: x[0],
+            dissipated: x[1],
+            p_in: x[2],
+            p_diss: x[3],
+            t: x[4],
+        };
+        self.update_tensions();
+        Ok(())
     }
 }
 
@@ -460,6 +1040,12 @@ impl MechanicalSystem for Belt3d {
 
     fn rebase(&mut self, q: &mut [f64]) {
         self.st.rebase(q);
+    }
+
+    /// Free pulleys held at their committed angles by a stiff bearing spring
+    /// (`10³ EA r²` [N m/rad]) while the belt is mounted.
+    fn hold_for_statics(&mut self, held: bool) {
+        self.held = held.then(|| self.pulley_dof.iter().map(|&d| self.st.q[d]).collect());
     }
 }
 
@@ -536,6 +1122,7 @@ mod tests {
             n_elements: 72,
             pretension: 200.0,
             gravity: Vector3::zeros(),
+            bowing: true,
         })
         .unwrap()
     }
