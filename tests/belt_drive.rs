@@ -11,10 +11,10 @@
 
 use flexfmu::elements::ancf_cable2d::{CableRule, CableSection};
 use flexfmu::integrators::{GeneralizedAlpha, Integrator};
+use flexfmu::kinds::belt_drive::PulleySide;
 use flexfmu::kinds::belt_drive::model::{
     BeltDrive, BeltElementKind, BeltPath, BeltSpec, PulleyDef, PulleyKind, default_contact,
 };
-use flexfmu::kinds::belt_drive::PulleySide;
 use flexfmu::kinds::belt_drive::scene::{BeltOutput, Output, PulleyInput};
 use flexfmu::kinds::energy::EnergyKind;
 use flexfmu::linalg::SolverKind;
@@ -105,7 +105,7 @@ fn capstan_ramp(r: f64, span: f64, mu: f64, t2: f64, ratio0: f64, rate: f64, h: 
             center: Vector2::zeros(),
             radius: r,
             kind: PulleyKind::Driven,
-                    side: PulleySide::Front,
+            side: PulleySide::Front,
         }],
         contact: default_contact(ea, 0.15, 0.0, r, r, t2, mu, (0.0, 0.0, 0.0)),
         points_per_element: 4,

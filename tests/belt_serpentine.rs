@@ -6,14 +6,14 @@ mod common;
 
 use flexfmu::kinds::belt_drive::BeltDriveScene;
 use flexfmu::kinds::belt_drive::model::BeltDrive;
+use flexfmu::kinds::belt_drive::scene::{PULLEY_RADIUS, PulleyInput};
 use flexfmu::kinds::belt_drive::scene::names::*;
-use flexfmu::kinds::belt_drive::scene::PulleyInput;
 use flexfmu::meshers::belt_loop::{Loop, PitchCircle};
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::variables::Value;
 use nalgebra::Vector2;
 
-fn serpentine(overrides: &[(&str, Value)]) -> (Scene, ParamValues) {
+fn serpentine(overrides: &[(&'static str, Value)]) -> (Scene, ParamValues) {
     let scene = common::scene("serpentine");
     let mut p = ParamValues::defaults(&scene.params);
     for (k, v) in overrides {
@@ -146,7 +146,10 @@ fn static_tensioner_equilibrium_matches_the_hand_calculation() {
         1e3 * angle,
         1e3 * hand.psi,
         hand.tension,
-        spans.iter().map(|t| (t * 100.0).round() / 100.0).collect::<Vec<_>>(),
+        spans
+            .iter()
+            .map(|t| (t * 100.0).round() / 100.0)
+            .collect::<Vec<_>>(),
         m.tensioner_torque(),
         m.tensioner_belt_moment(),
         m.preload_report().solves,
@@ -235,7 +238,7 @@ fn back_side_idler_force_and_turning_direction() {
 }
 
 /// A simulation of the serpentine scene with parameter overrides.
-fn sim_of(overrides: &[(&str, Value)]) -> flexfmu::solver::simulation::Simulation {
+fn sim_of(overrides: &[(&'static str, Value)]) -> flexfmu::solver::simulation::Simulation {
     let (scene, p) = serpentine(overrides);
     let tables: &BeltDriveScene = scene.tables().unwrap();
     let m = BeltDrive::build(tables, &p).unwrap();
@@ -285,7 +288,7 @@ fn euler_eytelwein_at_slip_onset_on_the_accessories() {
     // power steering (3), water pump (4), alternator (6), A/C compressor (7)
     for k in [2usize, 3, 5, 6] {
         let mut sim = sim_of(&[]);
-        let (h, w0) = (1e-3, 30.0);
+        let (h, w0): (f64, f64) = (1e-3, 30.0);
         let omega = |t: f64| w0 * (t / 0.05).min(1.0);
         let rho = p.real(PULLEY_RADIUS[k]) + half_t;
         let d = sim.model_as::<BeltDrive>().unwrap();
@@ -293,7 +296,7 @@ fn euler_eytelwein_at_slip_onset_on_the_accessories() {
         let capacity = ((mu * 2.0).exp() - 1.0) * t_in0 * rho;
         let rate = capacity / 0.3;
         let (mut angle, mut best, mut theta_best, mut slid) = (0.0, 0.0f64, 0.0, false);
-        let mut t = 0.0;
+        let mut t: f64 = 0.0;
         while t < 0.8 {
             let load = -rate * (t - 0.1).max(0.0);
             step(&mut sim, t, h, &omega, &mut angle, &[(k, load)]);
@@ -358,10 +361,17 @@ fn energy_balance_of_the_serpentine_drive() {
     let e0 = e(&sim, Output::Energy(EnergyKind::Total));
     let h = 1e-3;
     let omega = |t: f64| 60.0 * (t / 0.2).min(1.0);
-    let (mut angle, mut t) = (0.0, 0.0);
+    let (mut angle, mut t): (f64, f64) = (0.0, 0.0);
     while t < 0.35 - 1e-9 {
         let ramp = (t / 0.2).min(1.0);
-        step(&mut sim, t, h, &omega, &mut angle, &[(5, -2.0 * ramp), (6, -4.0 * ramp)]);
+        step(
+            &mut sim,
+            t,
+            h,
+            &omega,
+            &mut angle,
+            &[(5, -2.0 * ramp), (6, -4.0 * ramp)],
+        );
         t += h;
     }
     let e1 = e(&sim, Output::Energy(EnergyKind::Total));

@@ -227,7 +227,10 @@ mod tests {
     /// Idler of R = 0.04 m on a 0.1 m arm at ψ = 0.7 rad; a point pressed in by 20 µm,
     /// moving with the idler's surface (plus 5 mm/s of slip and 10 mm/s normal) while the arm
     /// swings, sticking (bristle `z_hist` small) or sliding (large).
-    fn case(f_hist: f64, z_hist: f64) -> (ArmPulley, PointMotion<2>, [f64; 2], [f64; 2], PointHistory) {
+    fn case(
+        f_hist: f64,
+        z_hist: f64,
+    ) -> (ArmPulley, PointMotion<2>, [f64; 2], [f64; 2], PointHistory) {
         let pulley = ArmPulley {
             pivot: Vector2::new(0.3, -0.2),
             arm: 0.1,
@@ -260,24 +263,39 @@ mod tests {
         assert_eq!(res.inner.slipping, expect_slip);
         let out = |p: &PointMotion<2>, x: &[f64], xd: &[f64], o: &mut [f64]| {
             let r = evaluate(&law, &pulley, w, p, x, xd, &h).unwrap();
-            o.copy_from_slice(&[r.inner.force.x, r.inner.force.y, r.inner.torque, r.arm_moment]);
+            o.copy_from_slice(&[
+                r.inner.force.x,
+                r.inner.force.y,
+                r.inner.torque,
+                r.arm_moment,
+            ]);
         };
         let pos = [p.r.x, p.r.y, x[0], x[1]];
         let vel = [p.v.x, p.v.y, xd[0], xd[1]];
-        let kfd = fd::jacobian(&pos, 4, |_| 1e-9, |y, o| {
-            let pm = PointMotion {
-                r: Vector2::new(y[0], y[1]),
-                v: p.v,
-            };
-            out(&pm, &y[2..], &xd, o)
-        });
-        let cfd = fd::jacobian(&vel, 4, |_| 1e-6, |y, o| {
-            let pm = PointMotion {
-                r: p.r,
-                v: Vector2::new(y[0], y[1]),
-            };
-            out(&pm, &x, &y[2..], o)
-        });
+        let kfd = fd::jacobian(
+            &pos,
+            4,
+            |_| 1e-9,
+            |y, o| {
+                let pm = PointMotion {
+                    r: Vector2::new(y[0], y[1]),
+                    v: p.v,
+                };
+                out(&pm, &y[2..], &xd, o)
+            },
+        );
+        let cfd = fd::jacobian(
+            &vel,
+            4,
+            |_| 1e-6,
+            |y, o| {
+                let pm = PointMotion {
+                    r: p.r,
+                    v: Vector2::new(y[0], y[1]),
+                };
+                out(&pm, &x, &y[2..], o)
+            },
+        );
         let k = DMatrix::from_column_slice(4, 4, res.k.as_slice());
         let c = DMatrix::from_column_slice(4, 4, res.c.as_slice());
         fd::assert_close("arm pulley K", &k, &kfd, 1e-5, 1e-6 * k.amax());

@@ -21,8 +21,8 @@
 //! Speeds are averaged over the window from the angles (`(θ(t_b) − θ(t_a))/(t_b − t_a)`), the
 //! tensions as the mean of the committed span tensions of every step in the window.
 
-use super::model::{BeltDrive, BeltElementKind, BeltPath, BeltSpec, default_contact};
 use super::PulleySide;
+use super::model::{BeltDrive, BeltElementKind, BeltPath, BeltSpec, default_contact};
 use super::pulleys::{PulleyDef, PulleyKind};
 use super::scene::{BeltOutput, Output, PulleyInput};
 use crate::contact::ContactLaw;

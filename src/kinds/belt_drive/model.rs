@@ -18,9 +18,9 @@
 use super::energy::{EnergyBook, StepRates};
 pub use super::preload::PreloadReport;
 use super::pulleys::PulleyIo;
+pub use super::pulleys::{PulleyDef, PulleyKind};
 use super::tensioner::Tensioner;
 pub use super::tensioner::TensionerDef;
-pub use super::pulleys::{PulleyDef, PulleyKind};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
 use crate::contact::{ArmPulley, Circle, ContactLaw, ContactPointSet};
 use crate::elements::Element;
@@ -672,7 +672,7 @@ impl BeltDrive {
             l,
         )?]);
         let n_cp = self.spec.points_per_element.max(1);
-        let weights = (0..n_cp)
+        let weights: Vec<[f64; 4]> = (0..n_cp)
             .map(|i| {
                 self.element()
                     .centerline((i as f64 + 0.5) / n_cp as f64 * l)
@@ -913,13 +913,10 @@ impl BeltDrive {
                 BeltOutput::TensionSlack => last()?.slack,
                 BeltOutput::Slip => along(&|_, v| self.slip_of(v)),
                 BeltOutput::PulleySlip(k) => along(&|_, v| self.pulley_slip_of(k, v)),
-                BeltOutput::TensionerAngle => self
-                    .tensioner
-                    .as_ref()
-                    .map_or(0.0, |t| self.v[t.dof]),
-                BeltOutput::TensionerTorque => {
-                    along(&|q, v| self.tensioner_torque_of(q, v))
+                BeltOutput::TensionerAngle => {
+                    self.tensioner.as_ref().map_or(0.0, |t| self.v[t.dof])
                 }
+                BeltOutput::TensionerTorque => along(&|q, v| self.tensioner_torque_of(q, v)),
                 // by differences of the outputs (not in the step rates: the saved state of
                 // the two-pulley drives keeps its layout)
                 BeltOutput::SpanTension(_) => return None,
@@ -1243,10 +1240,6 @@ mod tests {
     use crate::scene::{ParamValues, Scene};
     use crate::solver::newton::Workspace;
 
-    fn shipped() -> (Scene, ParamValues) {
-        shipped_scene("belt_drive")
-    }
-
     fn shipped_scene(name: &str) -> (Scene, ParamValues) {
         let text = std::fs::read_to_string(
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml")),
@@ -1315,7 +1308,10 @@ mod tests {
     #[test]
     fn serpentine_jacobian_with_tensioner_matches_finite_differences() {
         let (m, s) = running_scene("serpentine", 60, 5, -6.0, 2000.0, 40, 5e-4);
-        let t = m.tensioner.as_ref().expect("the serpentine drive has a tensioner");
+        let t = m
+            .tensioner
+            .as_ref()
+            .expect("the serpentine drive has a tensioner");
         assert!(
             (m.q[t.dof] - t.design).abs() > 1e-5 && m.v[t.dof].abs() > 1e-4,
             "the arm should move: {} {}",

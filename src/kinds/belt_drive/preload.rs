@@ -48,7 +48,9 @@ impl BeltDrive {
             self.commit(t, false);
             let mean = self.tensions.iter().sum::<f64>() / self.tensions.len().max(1) as f64;
             self.preload.span_tensions = self.tensions.clone();
-            if self.tensioner.is_some() || (mean - pretension).abs() <= 1e-3 * pretension || round == 4
+            if self.tensioner.is_some()
+                || (mean - pretension).abs() <= 1e-3 * pretension
+                || round == 4
             {
                 break;
             }

@@ -2,8 +2,8 @@
 //! (rigid body with inertia and bearing damping) motion, their inputs as signals of time and
 //! the belt's loads on them.
 
-use super::model::BeltDrive;
 use super::PulleySide;
+use super::model::BeltDrive;
 use super::scene::PulleyInput;
 use crate::model::JacobianCoeffs;
 use crate::model::inputs::{InputSignal, prescribed};
