@@ -6,8 +6,8 @@ mod common;
 
 use flexfmu::kinds::belt_drive::BeltDriveScene;
 use flexfmu::kinds::belt_drive::model::BeltDrive;
-use flexfmu::kinds::belt_drive::scene::{PULLEY_RADIUS, PulleyInput};
 use flexfmu::kinds::belt_drive::scene::names::*;
+use flexfmu::kinds::belt_drive::scene::{PULLEY_RADIUS, PulleyInput};
 use flexfmu::meshers::belt_loop::{Loop, PitchCircle};
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::variables::Value;

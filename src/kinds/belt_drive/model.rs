@@ -1218,16 +1218,8 @@ impl MechanicalSystem for BeltDrive {
         res
     }
 
-    /// Free pulleys are held unless the drive has a tensioner and a driven pulley (then the
-    /// driven pulley holds the belt and the free pulleys turn with it as the arm settles).
     fn hold_for_statics(&mut self, held: bool) {
-        let any_driven = self
-            .spec
-            .pulleys
-            .iter()
-            .any(|p| p.kind == PulleyKind::Driven);
-        let hold = held && !(self.tensioner.is_some() && any_driven);
-        self.held_angles = hold.then(|| self.pulley_dof.iter().map(|&d| self.q[d]).collect());
+        self.held_angles = held.then(|| self.pulley_dof.iter().map(|&d| self.q[d]).collect());
     }
 }
 

@@ -20,10 +20,10 @@ impl BeltDrive {
     /// Static pre-load: solve, compare the mean span tension with `pretension`, correct the
     /// reference length, repeat (at most 4 times). With a tensioner the belt keeps the
     /// length it was mounted with (at `pretension` on the design layout) and one solve finds
-    /// the arm's equilibrium, which sets the tension. Free pulleys then turn freely during the
-    /// solve (the driven pulleys hold the belt; see [`MechanicalSystem::hold_for_statics`]),
-    /// so that the belt slides round with the arm and, without input torques, every span
-    /// has the same tension, as the hand calculation of a tensioner assumes. Free pulleys are held at their angles
+    /// the arm's equilibrium, which sets the tension. Free pulleys are then held by a soft
+    /// bearing spring only (`pulleys.rs`), so that the belt slides round with the arm and,
+    /// without input torques, every span has the same tension, as the hand calculation of a
+    /// tensioner assumes. Free pulleys are held at their angles
     /// while the belt is mounted (see [`MechanicalSystem::hold_for_statics`]).
     pub(super) fn preload(&mut self, pretension: f64) -> Result<(), String> {
         use crate::solver::newton::Workspace;

@@ -165,10 +165,13 @@ impl BeltDrive {
             if let PulleyKind::Free { inertia, damping } = p.kind {
                 let pd = self.pulley_dof[k];
                 f[pd] += inertia * self.aw[pd] + damping * self.vw[pd] - self.io[k].torque_in.at(t);
-                // bearing spring of a held pulley while the belt is mounted [N m/rad]
+                // bearing spring of a held pulley while the belt is mounted [N m/rad]; with a
+                // tensioner a soft one (1e-6 of the stiff), so that the free pulleys turn
+                // with the belt as the arm settles and every span ends at one tension
                 let k_hold = match &self.held_angles {
                     Some(held) => {
-                        let k_hold = 1e3 * self.spec.section.ea * p.radius * p.radius;
+                        let factor = if self.tensioner.is_some() { 1e-3 } else { 1e3 };
+                        let k_hold = factor * self.spec.section.ea * p.radius * p.radius;
                         f[pd] += k_hold * (self.qw[pd] - held[k]);
                         k_hold
                     }
