@@ -55,6 +55,8 @@ pub enum Unit {
     KgM2,
     /// `N.m.s/rad`.
     NMSPerRad,
+    /// `N.m/rad` (torsion spring stiffness).
+    NMPerRad,
     /// `N/m` (stiffness).
     NPerM,
     /// `N/m2`.
@@ -98,6 +100,7 @@ impl Unit {
             Unit::KgM => "kg.m",
             Unit::KgM2 => "kg.m2",
             Unit::NMSPerRad => "N.m.s/rad",
+            Unit::NMPerRad => "N.m/rad",
             Unit::NPerM => "N/m",
             Unit::NPerM2 => "N/m2",
             Unit::NPerM3 => "N/m3",
@@ -122,7 +125,7 @@ impl Unit {
             Unit::RadPerS => [0, 0, -1, 0],
             Unit::N => [1, 1, -2, 0],
             Unit::Pa => [1, -1, -2, 0],
-            Unit::J | Unit::NM => [1, 2, -2, 0],
+            Unit::J | Unit::NM | Unit::NMPerRad => [1, 2, -2, 0],
             Unit::W => [1, 2, -3, 0],
             Unit::WPerK => [1, 2, -3, -1],
             Unit::JPerKgK => [0, 2, -2, -1],

@@ -11,6 +11,7 @@
 
 use flexfmu::elements::ancf_cable2d::{CableRule, CableSection};
 use flexfmu::integrators::{GeneralizedAlpha, Integrator};
+use flexfmu::kinds::belt_drive::PulleySide;
 use flexfmu::kinds::belt_drive::model::{
     BeltDrive, BeltElementKind, BeltPath, BeltSpec, PulleyDef, PulleyKind, default_contact,
 };
@@ -104,6 +105,7 @@ fn capstan_ramp(r: f64, span: f64, mu: f64, t2: f64, ratio0: f64, rate: f64, h: 
             center: Vector2::zeros(),
             radius: r,
             kind: PulleyKind::Driven,
+            side: PulleySide::Front,
         }],
         contact: default_contact(ea, 0.15, 0.0, r, r, t2, mu, (0.0, 0.0, 0.0)),
         points_per_element: 4,
@@ -114,6 +116,7 @@ fn capstan_ramp(r: f64, span: f64, mu: f64, t2: f64, ratio0: f64, rate: f64, h: 
         },
         n_points: 0,
         track_energy: false,
+        tensioner: None,
         statics: (newton(), SolverKind::Auto, 1),
     };
     let mut m = BeltDrive::new(spec).unwrap();
@@ -209,6 +212,7 @@ impl Drive {
                     center: Vector2::zeros(),
                     radius: self.radius,
                     kind: PulleyKind::Driven,
+                    side: PulleySide::Front,
                 },
                 PulleyDef {
                     center: Vector2::new(0.5, 0.0),
@@ -217,6 +221,7 @@ impl Drive {
                         inertia: 0.01,
                         damping: self.damping,
                     },
+                    side: PulleySide::Front,
                 },
             ],
             contact: default_contact(
@@ -237,6 +242,7 @@ impl Drive {
             },
             n_points: 0,
             track_energy: self.track_energy,
+            tensioner: None,
             statics: (newton(), SolverKind::Auto, 1),
         })
         .unwrap()

@@ -3,12 +3,14 @@
 //! [`point_set`]: the points of a body, their history, the evaluation loop and the scatter
 //! into the assembly; [`circle_friction`]: the belt–pulley kernel.
 
+pub mod arm_pulley;
 pub mod circle_friction;
 pub mod obstacle;
 pub mod point_set;
 pub mod pulley3d;
 pub mod revolution;
 
+pub use arm_pulley::{ArmContact, ArmPulley};
 pub use circle_friction::{Circle, ContactLaw, PointContact, PointHistory, PointState};
 pub use obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
 pub use point_set::{ContactBook, ContactPointSet, ObstacleLoad};

@@ -21,6 +21,7 @@
 //! Speeds are averaged over the window from the angles (`(θ(t_b) − θ(t_a))/(t_b − t_a)`), the
 //! tensions as the mean of the committed span tensions of every step in the window.
 
+use super::PulleySide;
 use super::model::{BeltDrive, BeltElementKind, BeltPath, BeltSpec, default_contact};
 use super::pulleys::{PulleyDef, PulleyKind};
 use super::scene::{BeltOutput, Output, PulleyInput};
@@ -173,6 +174,7 @@ impl CreepCase {
                     center: Vector2::zeros(),
                     radius: self.radii[0],
                     kind: PulleyKind::Driven,
+                    side: PulleySide::Front,
                 },
                 PulleyDef {
                     center: Vector2::new(self.center_distance, 0.0),
@@ -181,6 +183,7 @@ impl CreepCase {
                         inertia: self.inertia,
                         damping: self.bearing_damping,
                     },
+                    side: PulleySide::Front,
                 },
             ],
             contact: self.law(),
@@ -192,6 +195,7 @@ impl CreepCase {
             },
             n_points: 0,
             track_energy: false,
+            tensioner: None,
             statics: (newton, SolverKind::Auto, 1),
         })
     }

@@ -131,17 +131,22 @@ impl BeltDrive {
                 t += 0.5 * inertia * v[self.pulley_dof[k]].powi(2);
             }
         }
+        if let Some(tn) = &self.tensioner {
+            t += 0.5 * tn.def.inertia * v[tn.dof].powi(2);
+        }
         t
     }
 
-    /// Strain energy of the belt plus the penalty energy of the contact [J].
+    /// Strain energy of the belt plus the penalty energy of the contact and the tensioner's
+    /// spring energy [J].
     pub fn strain_energy(&self) -> f64 {
         self.energy.contact_energy + self.belt_strain_energy_of(&self.q)
     }
 
-    /// Strain energy of the belt elements [J] at full coordinates `q`.
+    /// Strain energy of the belt elements and the tensioner's spring [J] at full coordinates
+    /// `q`.
     pub(super) fn belt_strain_energy_of(&self, q: &[f64]) -> f64 {
-        self.set.strain_energy(q, None)
+        self.set.strain_energy(q, None) + self.tensioner_energy_of(q)
     }
 
     /// Gravity potential `−Q_gᵀ q` [J].
@@ -208,6 +213,9 @@ impl BeltDrive {
                         p_diss += damping * om * om;
                     }
                 }
+            }
+            if let Some(tn) = &self.tensioner {
+                p_diss += tn.def.damping * self.v[tn.dof].powi(2);
             }
             if !self.closed {
                 let last = (self.n_nodes - 1) * NC;

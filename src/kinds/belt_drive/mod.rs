@@ -10,6 +10,7 @@ pub mod model;
 mod preload;
 mod pulleys;
 pub mod scene;
+mod tensioner;
 
 use super::legacy_has_belt;
 use crate::scene::tables::{Choice, ExperimentSection, FmuSection, Gravity2d, SolverSection};
@@ -52,10 +53,14 @@ pub struct BeltDriveScene {
     pub belt: BeltSection,
     /// Belt–pulley contact.
     pub contact: ContactSection,
-    /// `[[pulley]]`: the pulleys in the order the belt wraps them (counter-clockwise); the
-    /// first is `pulley1`.
+    /// `[[pulley]]`: the pulleys in the order the belt runs over them (the belt runs
+    /// counter-clockwise around the loop; back-side pulleys outside it); the first is
+    /// `pulley1`.
     #[serde(default)]
     pub pulley: Vec<PulleySpec>,
+    /// `[tensioner]`: one of the free pulleys on a spring-loaded arm (omit for none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tensioner: Option<TensionerSpec>,
     /// Gravity (omit for none).
     #[serde(default)]
     pub gravity: Option<Gravity2d>,
@@ -168,6 +173,44 @@ pub enum PulleyMode {
     Free,
 }
 
+/// Which face of the belt runs on a pulley.
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PulleySide {
+    /// The inner face: the pulley lies inside the loop, the belt wraps it counter-clockwise.
+    #[default]
+    Front,
+    /// The back of the belt: an idler outside the loop, wrapped clockwise (its speed is
+    /// negative while the front pulleys turn counter-clockwise).
+    Back,
+}
+
+fn is_front(s: &PulleySide) -> bool {
+    *s == PulleySide::Front
+}
+
+/// `[tensioner]`: an idler on an arm pivoting about `pivot`, pressed into the belt by a
+/// pre-loaded torsion spring, with a viscous damper. The idler is one of the `[[pulley]]`
+/// entries (a free pulley); its centre there is the design position of the arm, whose length
+/// is the distance from the pivot.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TensionerSpec {
+    /// Number N of the idler `pulleyN` (1-based).
+    pub pulley: i64,
+    /// Pivot of the arm [m].
+    pub pivot: [f64; 2],
+    /// Torsion spring stiffness [N m/rad].
+    pub stiffness: f64,
+    /// Spring torque at the design angle [N m] (turns the idler into the belt).
+    pub preload: f64,
+    /// Viscous damping of the arm [N m s/rad].
+    #[serde(default)]
+    pub damping: f64,
+    /// Moment of inertia of arm and idler about the pivot [kg m2].
+    pub inertia: f64,
+}
+
 /// `[[pulley]]`
 #[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
@@ -179,6 +222,9 @@ pub struct PulleySpec {
     pub radius: f64,
     /// Driven or free.
     pub mode: PulleyMode,
+    /// Which face of the belt runs on the pulley: `"front"` (default) or `"back"`.
+    #[serde(default, skip_serializing_if = "is_front")]
+    pub side: PulleySide,
     /// Free pulleys: moment of inertia [kg m2].
     #[serde(default)]
     pub inertia: Option<f64>,

@@ -19,8 +19,10 @@ use super::energy::{EnergyBook, StepRates};
 pub use super::preload::PreloadReport;
 use super::pulleys::PulleyIo;
 pub use super::pulleys::{PulleyDef, PulleyKind};
+use super::tensioner::Tensioner;
+pub use super::tensioner::TensionerDef;
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval, check_finite};
-use crate::contact::{Circle, ContactLaw, ContactPointSet};
+use crate::contact::{ArmPulley, Circle, ContactLaw, ContactPointSet};
 use crate::elements::Element;
 use crate::elements::ancf_cable2d::{self, AncfCable2d, CableRule, CableSection, ElemVec};
 use crate::elements::ancf_shear2d::{AncfShear2d, Section, Shear2dElement, ShearRule};
@@ -28,7 +30,7 @@ use crate::elements::material::{PlaneElasticity, StrainEnergy};
 use crate::integrators::DynState;
 use crate::kinds::KindIo;
 use crate::kinds::belt_drive::scene::{BeltOutput, Input, Output};
-use crate::kinds::belt_drive::{BeltDriveScene, PulleyMode};
+use crate::kinds::belt_drive::{BeltDriveScene, PulleyMode, PulleySide};
 use crate::kinds::energy::EnergyKind;
 use crate::linalg::CscPattern;
 use crate::meshers::belt_loop::{Loop, PitchCircle};
@@ -102,6 +104,8 @@ pub struct BeltSpec {
     pub n_points: usize,
     /// Track input work and dissipation (energy outputs).
     pub track_energy: bool,
+    /// A tensioner (its idler one of the free pulleys), or none.
+    pub tensioner: Option<TensionerDef>,
     /// Newton settings and linear solver of the static pre-load.
     pub statics: (
         crate::solver::newton::NewtonSettings,
@@ -248,9 +252,16 @@ pub struct BeltDrive {
     pub(super) closed: bool,
     pub(super) asm: Assembly,
     pub(super) pulley_dof: Vec<usize>,
-    /// Contact points on the belt against the pulleys' pitch circles; blocks: element
-    /// coordinates plus the angle of pulley `k`, row `e · n_pulleys + k`.
+    /// Contact points on the belt against the pitch circles of the pulleys on fixed centres
+    /// (all but a tensioner's idler); blocks: element coordinates plus the angle of pulley
+    /// `fixed[k]`, row `e · fixed.len() + k`.
     pub(super) contact: ContactPointSet<Circle, 2, 4, 9>,
+    /// Pulley index of each obstacle of `contact`.
+    pub(super) fixed: Vec<usize>,
+    /// Pitch radius of each pulley [m].
+    pub(super) pitch: Vec<f64>,
+    /// The tensioner, if any.
+    pub(super) tensioner: Option<Tensioner>,
     pub(super) gravity_full: Vec<f64>,
     pub(super) end_loads: [Vector2<f64>; 2],
     pub(super) span_mid: Vec<Vector2<f64>>,
@@ -310,13 +321,18 @@ impl BeltDrive {
                 n_elements,
                 pretension,
             } => {
-                let lp = Loop::new(
+                let lp = Loop::with_sides(
                     &circles
                         .iter()
                         .map(|c| PitchCircle {
                             center: c.center,
                             radius: c.radius,
                         })
+                        .collect::<Vec<_>>(),
+                    &spec
+                        .pulleys
+                        .iter()
+                        .map(|p| p.side == PulleySide::Back)
                         .collect::<Vec<_>>(),
                 )?;
                 let n = *n_elements;
@@ -335,6 +351,19 @@ impl BeltDrive {
         };
         let n_nodes = nodes.len();
         let n_el = if closed { n_nodes } else { n_nodes - 1 };
+        let idler = spec.tensioner.map(|t| t.pulley);
+        if let Some(j) = idler {
+            if j >= np || !matches!(spec.pulleys[j].kind, PulleyKind::Free { .. }) {
+                return Err(format!(
+                    "tensioner.pulley = {}: the tensioner's idler must be a free pulley of the drive",
+                    j + 1
+                ));
+            }
+            if lp.is_none() {
+                return Err("a tensioner needs a closed belt".into());
+            }
+        }
+        let fixed: Vec<usize> = (0..np).filter(|&k| Some(k) != idler).collect();
         if n_el < 1 {
             return Err("the belt needs at least one element".into());
         }
@@ -345,8 +374,9 @@ impl BeltDrive {
         let l_ref = mounted / stretch;
         let element = belt_element(spec.element, s, l_ref)?;
 
-        // Coordinates: belt nodes, then one angle per pulley.
-        let n_full = n_nodes * NC + np;
+        // Coordinates: belt nodes, then one angle per pulley, then the tensioner's arm angle.
+        let n_full = n_nodes * NC + np + usize::from(idler.is_some());
+        let arm_dof = n_nodes * NC + np;
         let pulley_dof: Vec<usize> = (0..np).map(|k| n_nodes * NC + k).collect();
         let mut constrained = vec![false; n_full];
         for (k, p) in spec.pulleys.iter().enumerate() {
@@ -367,6 +397,12 @@ impl BeltDrive {
                 extra.push((i, pd));
             }
         }
+        if let Some(j) = idler {
+            for i in 0..n_nodes * NC {
+                extra.push((i, arm_dof));
+            }
+            extra.push((pulley_dof[j], arm_dof));
+        }
         let asm = Assembly::new(
             DofMap::new(&constrained),
             &[(8, connectivity.as_flattened())],
@@ -375,12 +411,47 @@ impl BeltDrive {
         let blocks: Vec<[usize; 9]> = connectivity
             .iter()
             .flat_map(|d| {
-                pulley_dof
-                    .iter()
-                    .map(|&pd| std::array::from_fn(|i| if i < 8 { d[i] } else { pd }))
+                fixed.iter().map(|&k| {
+                    let pd = pulley_dof[k];
+                    std::array::from_fn(|i| if i < 8 { d[i] } else { pd })
+                })
             })
             .collect();
         let contact_blocks = Connectivity::new(blocks, &asm);
+        let tensioner = match (spec.tensioner, &lp) {
+            (Some(def), Some(lp)) => {
+                let (psi_d, arm, sigma) = super::tensioner::design(&def, lp)?;
+                let arm_blocks: Vec<[usize; 10]> = connectivity
+                    .iter()
+                    .map(|d| {
+                        std::array::from_fn(|i| match i {
+                            0..8 => d[i],
+                            8 => pulley_dof[def.pulley],
+                            _ => arm_dof,
+                        })
+                    })
+                    .collect();
+                let obstacle = ArmPulley {
+                    pivot: def.pivot,
+                    arm,
+                    radius: circles[def.pulley].radius,
+                };
+                Some(Tensioner {
+                    def,
+                    dof: arm_dof,
+                    design: psi_d,
+                    free_angle: psi_d + sigma * def.preload / def.stiffness,
+                    contact: ContactPointSet::new(
+                        spec.contact,
+                        vec![obstacle],
+                        Connectivity::new(arm_blocks, &asm),
+                        [0, 2],
+                    ),
+                    belt_moment: 0.0,
+                })
+            }
+            _ => None,
+        };
         let set = ElementSet::new(vec![element], connectivity, &asm);
 
         // Initial coordinates: nodes on the path; on the arcs moved inwards by the predicted
@@ -421,7 +492,16 @@ impl BeltDrive {
                 }
             })
             .collect();
-        let contact = ContactPointSet::new(spec.contact, circles, contact_blocks, [0, 2]);
+        let pitch = circles.iter().map(|c| c.radius).collect();
+        if let Some(t) = &tensioner {
+            q[t.dof] = t.design;
+        }
+        let contact = ContactPointSet::new(
+            spec.contact,
+            fixed.iter().map(|&k| circles[k]).collect(),
+            contact_blocks,
+            [0, 2],
+        );
         let mut me = Self {
             roles: KindIo::default(),
             set,
@@ -430,6 +510,9 @@ impl BeltDrive {
             closed,
             pulley_dof,
             contact,
+            fixed,
+            pitch,
+            tensioner,
             gravity_full: vec![0.0; n_full],
             end_loads: [Vector2::zeros(); 2],
             span_mid,
@@ -511,6 +594,7 @@ impl BeltDrive {
             .map(|(i, s)| PulleyDef {
                 center: centers[i],
                 radius: p.real(PULLEY_RADIUS[i]),
+                side: s.side,
                 kind: match s.mode {
                     PulleyMode::Driven => PulleyKind::Driven,
                     PulleyMode::Free => PulleyKind::Free {
@@ -560,6 +644,14 @@ impl BeltDrive {
                 },
                 n_points: belt_points(scene),
                 track_energy: scene.outputs.energy,
+                tensioner: scene.tensioner.as_ref().map(|t| TensionerDef {
+                    pulley: t.pulley as usize - 1,
+                    pivot: Vector2::from(t.pivot),
+                    stiffness: p.real(TENSIONER_STIFFNESS),
+                    preload: p.real(TENSIONER_PRELOAD),
+                    damping: p.real(TENSIONER_DAMPING),
+                    inertia: p.real(TENSIONER_INERTIA),
+                }),
                 statics: (cfg.newton, cfg.linear, cfg.load_steps),
             },
             preload,
@@ -580,12 +672,15 @@ impl BeltDrive {
             l,
         )?]);
         let n_cp = self.spec.points_per_element.max(1);
-        let weights = (0..n_cp)
+        let weights: Vec<[f64; 4]> = (0..n_cp)
             .map(|i| {
                 self.element()
                     .centerline((i as f64 + 0.5) / n_cp as f64 * l)
             })
             .collect();
+        if let Some(t) = self.tensioner.as_mut() {
+            t.contact.set_points(weights.clone(), l / n_cp as f64);
+        }
         self.contact.set_points(weights, l / n_cp as f64);
         self.gravity_full.iter_mut().for_each(|x| *x = 0.0);
         let g = self.spec.gravity;
@@ -679,6 +774,19 @@ impl BeltDrive {
             &mut f,
             jac.as_mut().map(|(c, v)| (*c, &mut **v)),
         );
+        if self.tensioner.is_some() {
+            self.add_tensioner_residual(&mut f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+            let mut ten = self.tensioner.take();
+            if let Some(tn) = ten.as_mut() {
+                tn.contact.add_residual(
+                    &self.qw,
+                    &self.vw,
+                    &mut f,
+                    jac.as_mut().map(|(c, v)| (*c, &mut **v)),
+                );
+            }
+            self.tensioner = ten;
+        }
         // external: gravity and end loads
         for (fi, g) in f.iter_mut().zip(&self.gravity_full) {
             *fi -= load_factor * g;
@@ -699,10 +807,22 @@ impl BeltDrive {
     pub(super) fn commit(&mut self, t: f64, initial: bool) {
         let (mut q, mut v) = (std::mem::take(&mut self.q), std::mem::take(&mut self.v));
         self.prescribe(t, &mut q, &mut v, None);
-        let book = self.contact.commit(&q, &v, initial);
-        for (io, load) in self.io.iter_mut().zip(self.contact.loads()) {
+        let mut book = self.contact.commit(&q, &v, initial);
+        for (&k, load) in self.fixed.iter().zip(self.contact.loads()) {
+            self.io[k].torque = load.generalized[0];
+            self.io[k].force = load.force;
+        }
+        if let Some(tn) = self.tensioner.as_mut() {
+            let arm = tn.contact.commit(&q, &v, initial);
+            let load = tn.contact.loads()[0];
+            let io = &mut self.io[tn.def.pulley];
             io.torque = load.generalized[0];
             io.force = load.force;
+            tn.belt_moment = load.generalized[1];
+            book.slipping += arm.slipping;
+            book.normal_energy += arm.normal_energy;
+            book.dissipation += arm.dissipation;
+            book.friction_work += arm.friction_work;
         }
         self.slipping_points = book.slipping;
         self.q = q;
@@ -792,6 +912,14 @@ impl BeltDrive {
                 BeltOutput::TensionTight => last()?.tight,
                 BeltOutput::TensionSlack => last()?.slack,
                 BeltOutput::Slip => along(&|_, v| self.slip_of(v)),
+                BeltOutput::PulleySlip(k) => along(&|_, v| self.pulley_slip_of(k, v)),
+                BeltOutput::TensionerAngle => {
+                    self.tensioner.as_ref().map_or(0.0, |t| self.v[t.dof])
+                }
+                BeltOutput::TensionerTorque => along(&|q, v| self.tensioner_torque_of(q, v)),
+                // by differences of the outputs (not in the step rates: the saved state of
+                // the two-pulley drives keeps its layout)
+                BeltOutput::SpanTension(_) => return None,
                 BeltOutput::Speed => along(&|_, v| self.belt_speed_of(v)),
                 BeltOutput::PointX(i) => point(i).x,
                 BeltOutput::PointY(i) => point(i).y,
@@ -828,6 +956,10 @@ impl BeltDrive {
                     self.tensions.iter().copied().fold(f64::INFINITY, f64::min)
                 }
                 BeltOutput::Slip => self.slip_of(&self.v),
+                BeltOutput::PulleySlip(k) => self.pulley_slip_of(k, &self.v),
+                BeltOutput::TensionerAngle => self.tensioner_angle(),
+                BeltOutput::TensionerTorque => self.tensioner_torque(),
+                BeltOutput::SpanTension(i) => self.tensions.get(i).copied().unwrap_or(0.0),
                 BeltOutput::Speed => self.belt_speed(),
                 BeltOutput::PointX(i) => self.belt_point(i as f64 / self.spec.n_points as f64).x,
                 BeltOutput::PointY(i) => self.belt_point(i as f64 / self.spec.n_points as f64).y,
@@ -871,10 +1003,19 @@ impl Model for BeltDrive {
             [p.x, p.y]
         }));
         for (k, p) in self.spec.pulleys.iter().enumerate() {
-            let c = Vector3::new(p.center.x, p.center.y, 0.0);
+            let pc = self.pulley_center(k);
+            let c = Vector3::new(pc.x, pc.y, 0.0);
             s.circle(c, p.radius, Vector3::z());
             let phi = self.q[self.pulley_dof[k]];
             s.line([c, c + p.radius * Vector3::new(phi.cos(), phi.sin(), 0.0)]);
+        }
+        if let Some(t) = &self.tensioner {
+            let o = t.contact.obstacles()[0];
+            let c = o.center(self.q[t.dof]);
+            s.line([
+                Vector3::new(o.pivot.x, o.pivot.y, 0.0),
+                Vector3::new(c.x, c.y, 0.0),
+            ]);
         }
         s
     }
@@ -964,6 +1105,10 @@ impl Model for BeltDrive {
         w.f64(self.t0_step.unwrap_or(0.0));
         // the reference length the pre-load settled on (a model built to restore has none)
         w.f64(self.element().length());
+        if let Some(t) = &self.tensioner {
+            t.contact.save(w);
+            w.f64(t.belt_moment);
+        }
         Ok(())
     }
 
@@ -993,6 +1138,10 @@ impl Model for BeltDrive {
         }
         if length != self.element().length() {
             self.set_reference_length(length)?;
+        }
+        if let Some(tn) = self.tensioner.as_mut() {
+            tn.contact.restore(r)?;
+            tn.belt_moment = r.f64().map_err(e)?;
         }
         self.t0_step = has_t0.then_some(t0);
         self.t = t;
@@ -1083,9 +1232,9 @@ mod tests {
     use crate::scene::{ParamValues, Scene};
     use crate::solver::newton::Workspace;
 
-    fn shipped() -> (Scene, ParamValues) {
+    fn shipped_scene(name: &str) -> (Scene, ParamValues) {
         let text = std::fs::read_to_string(
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/belt_drive.toml"),
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml")),
         )
         .unwrap();
         let scene = Scene::from_toml(&text).unwrap();
@@ -1095,10 +1244,24 @@ mod tests {
 
     /// Runs `steps` steps of h with the driver accelerating, returns the model and its state.
     fn running(steps: usize, h: f64) -> (BeltDrive, DynState) {
-        let (scene, mut p) = shipped();
+        running_scene("belt_drive", 24, 1, -20.0, 200.0, steps, h)
+    }
+
+    /// [`running`] for the shipped scene `name` with `n_el` elements, the input torque `load`
+    /// [N m] on pulley `loaded` and the driver accelerating at `alpha` [rad/s²].
+    fn running_scene(
+        name: &str,
+        n_el: i32,
+        loaded: usize,
+        load: f64,
+        alpha: f64,
+        steps: usize,
+        h: f64,
+    ) -> (BeltDrive, DynState) {
+        let (scene, mut p) = shipped_scene(name);
         p.set(
             crate::kinds::belt_drive::scene::names::BELT_N_ELEMENTS,
-            crate::variables::Value::Integer(24),
+            crate::variables::Value::Integer(n_el),
         );
         let mut m = BeltDrive::build(scene.tables().unwrap(), &p).unwrap();
         let mut cfg = SolverConfig::from_params(&p);
@@ -1110,16 +1273,16 @@ mod tests {
         m.free_state(&mut s0.q, &mut s0.v);
         let mut s1 = s0.clone();
         let ga = GeneralizedAlpha::from_rho_inf(0.8);
-        m.set_pulley_input(1, PulleyInput::Torque, -20.0);
+        m.set_pulley_input(loaded, PulleyInput::Torque, load);
         for i in 0..steps {
             let t = i as f64 * h;
-            m.set_pulley_input(0, PulleyInput::Omega, 200.0 * t);
+            m.set_pulley_input(0, PulleyInput::Omega, alpha * t);
             m.begin_communication_step(t, t + h);
             ga.step(&mut m, &mut ws, &cfg.newton, &s0, h, &mut s1)
                 .unwrap_or_else(|e| panic!("step {i}: {e}"));
             m.accept(&mut s1);
             std::mem::swap(&mut s0, &mut s1);
-            m.set_pulley_input(0, PulleyInput::Angle, 100.0 * (t + h).powi(2));
+            m.set_pulley_input(0, PulleyInput::Angle, 0.5 * alpha * (t + h).powi(2));
         }
         (m, s0)
     }
@@ -1128,7 +1291,29 @@ mod tests {
     /// differences of the residual, in a running state with contact, stick and slip.
     #[test]
     fn model_jacobian_matches_finite_differences() {
-        let (mut m, s) = running(60, 5e-4);
+        let (m, s) = running(60, 5e-4);
+        check_model_jacobian(m, s);
+    }
+
+    /// The same for the serpentine drive: back-side idlers and the tensioner's arm angle,
+    /// coupled to the belt through its idler's contact (the blocks belt ↔ ψ, idler ↔ ψ, ψ ↔ ψ).
+    #[test]
+    fn serpentine_jacobian_with_tensioner_matches_finite_differences() {
+        let (m, s) = running_scene("serpentine", 60, 5, -6.0, 2000.0, 40, 5e-4);
+        let t = m
+            .tensioner
+            .as_ref()
+            .expect("the serpentine drive has a tensioner");
+        assert!(
+            (m.q[t.dof] - t.design).abs() > 1e-5 && m.v[t.dof].abs() > 1e-4,
+            "the arm should move: {} {}",
+            m.q[t.dof] - t.design,
+            m.v[t.dof]
+        );
+        check_model_jacobian(m, s);
+    }
+
+    fn check_model_jacobian(mut m: BeltDrive, s: DynState) {
         assert!(
             m.slipping_points() > 0,
             "the test state should have sliding points"

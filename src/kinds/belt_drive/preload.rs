@@ -18,7 +18,12 @@ pub struct PreloadReport {
 
 impl BeltDrive {
     /// Static pre-load: solve, compare the mean span tension with `pretension`, correct the
-    /// reference length, repeat (at most 4 times). Free pulleys are held at their angles
+    /// reference length, repeat (at most 4 times). With a tensioner the belt keeps the
+    /// length it was mounted with (at `pretension` on the design layout) and one solve finds
+    /// the arm's equilibrium, which sets the tension. Free pulleys are then held by a soft
+    /// bearing spring only (`pulleys.rs`), so that the belt slides round with the arm and,
+    /// without input torques, every span has the same tension, as the hand calculation of a
+    /// tensioner assumes. Free pulleys are held at their angles
     /// while the belt is mounted (see [`MechanicalSystem::hold_for_statics`]).
     pub(super) fn preload(&mut self, pretension: f64) -> Result<(), String> {
         use crate::solver::newton::Workspace;
@@ -43,7 +48,10 @@ impl BeltDrive {
             self.commit(t, false);
             let mean = self.tensions.iter().sum::<f64>() / self.tensions.len().max(1) as f64;
             self.preload.span_tensions = self.tensions.clone();
-            if (mean - pretension).abs() <= 1e-3 * pretension || round == 4 {
+            if self.tensioner.is_some()
+                || (mean - pretension).abs() <= 1e-3 * pretension
+                || round == 4
+            {
                 break;
             }
             let ea = self.spec.section.ea;

@@ -2,6 +2,7 @@
 //! (rigid body with inertia and bearing damping) motion, their inputs as signals of time and
 //! the belt's loads on them.
 
+use super::PulleySide;
 use super::model::BeltDrive;
 use super::scene::PulleyInput;
 use crate::model::JacobianCoeffs;
@@ -32,6 +33,8 @@ pub struct PulleyDef {
     pub radius: f64,
     /// Driven or free.
     pub kind: PulleyKind,
+    /// Which face of the belt runs on it (back: wrapped clockwise, outside the loop).
+    pub side: PulleySide,
 }
 
 /// Inputs and committed results of one pulley.
@@ -50,7 +53,16 @@ pub(super) struct PulleyIo {
 impl BeltDrive {
     /// Pitch radius of pulley `k` [m].
     pub fn pitch_radius(&self, k: usize) -> f64 {
-        self.contact.obstacles()[k].radius
+        self.pitch[k]
+    }
+
+    /// Centre of pulley `k` [m] in the committed state (a tensioner's idler moves with its
+    /// arm).
+    pub fn pulley_center(&self, k: usize) -> Vector2<f64> {
+        match &self.tensioner {
+            Some(t) if t.def.pulley == k => t.contact.obstacles()[0].center(self.q[t.dof]),
+            _ => self.spec.pulleys[k].center,
+        }
     }
 
     /// Prescribed angle, speed and angular acceleration of a driven pulley at time `t`: the
@@ -85,7 +97,9 @@ impl BeltDrive {
         {
             let pd = self.pulley_dof[pulley];
             let turn = value - self.q[pd];
-            self.contact.shift_obstacle(pulley, 0, turn);
+            if let Some(k) = self.fixed.iter().position(|&k| k == pulley) {
+                self.contact.shift_obstacle(k, 0, turn);
+            }
             self.q[pd] = value;
         }
         let t = self.t;
@@ -94,11 +108,24 @@ impl BeltDrive {
 
     /// `1 − ω_last ρ_last / (ω_1 ρ_1)` at full velocities `v`.
     pub(super) fn slip_of(&self, v: &[f64]) -> f64 {
-        let circles = self.contact.obstacles();
-        let last = circles.len() - 1;
-        let v1 = v[self.pulley_dof[0]] * circles[0].radius;
-        let vn = v[self.pulley_dof[last]] * circles[last].radius;
-        if v1.abs() > 1e-12 { 1.0 - vn / v1 } else { 0.0 }
+        self.pulley_slip_of(self.spec.pulleys.len() - 1, v)
+    }
+
+    /// Wrap direction of pulley `k`: +1 front side, −1 back side.
+    pub fn side_sign(&self, k: usize) -> f64 {
+        match self.spec.pulleys[k].side {
+            PulleySide::Front => 1.0,
+            PulleySide::Back => -1.0,
+        }
+    }
+
+    /// Slip of pulley `k` against pulley 1: `1 − s_k ω_k ρ_k / (s_1 ω_1 ρ_1)` (`s = ±1`
+    /// the wrap direction, `ρ` the pitch radius) at full velocities `v`; 0 while pulley 1 is
+    /// at rest.
+    pub(super) fn pulley_slip_of(&self, k: usize, v: &[f64]) -> f64 {
+        let v1 = self.side_sign(0) * v[self.pulley_dof[0]] * self.pitch[0];
+        let vk = self.side_sign(k) * v[self.pulley_dof[k]] * self.pitch[k];
+        if v1.abs() > 1e-12 { 1.0 - vk / v1 } else { 0.0 }
     }
 
     /// The signal of a pulley input.
@@ -138,10 +165,13 @@ impl BeltDrive {
             if let PulleyKind::Free { inertia, damping } = p.kind {
                 let pd = self.pulley_dof[k];
                 f[pd] += inertia * self.aw[pd] + damping * self.vw[pd] - self.io[k].torque_in.at(t);
-                // bearing spring of a held pulley while the belt is mounted [N m/rad]
+                // bearing spring of a held pulley while the belt is mounted [N m/rad]; with a
+                // tensioner a soft one (1e-6 of the stiff), so that the free pulleys turn
+                // with the belt as the arm settles and every span ends at one tension
                 let k_hold = match &self.held_angles {
                     Some(held) => {
-                        let k_hold = 1e3 * self.spec.section.ea * p.radius * p.radius;
+                        let factor = if self.tensioner.is_some() { 1e-3 } else { 1e3 };
+                        let k_hold = factor * self.spec.section.ea * p.radius * p.radius;
                         f[pd] += k_hold * (self.qw[pd] - held[k]);
                         k_hold
                     }

@@ -47,6 +47,17 @@ pub enum BeltOutput {
     PulleyAngle(usize),
     /// `pulleyN.omega` of a free pulley [rad/s].
     PulleyOmega(usize),
+    /// `pulleyN.slip`: `1 − s_N ω_N ρ_N / (s_1 ω_1 ρ_1)` (`s` = +1 front, −1 back side, `ρ`
+    /// pitch radius): speed loss of the pulley against pulley 1 [1] (drives of three or more
+    /// pulleys).
+    PulleySlip(usize),
+    /// `spanN.tension`: axial force in the middle of span N, from pulley N to pulley N + 1
+    /// (the last to pulley 1) [N] (drives of three or more pulleys).
+    SpanTension(usize),
+    /// `tensioner.angle`: arm angle from its design position, counter-clockwise [rad].
+    TensionerAngle,
+    /// `tensioner.torque`: spring plus damper torque on the arm, counter-clockwise [N m].
+    TensionerTorque,
     /// `belt.tension_tight`: the larger span tension [N].
     TensionTight,
     /// `belt.tension_slack`: the smaller span tension [N].
@@ -111,6 +122,14 @@ pub mod names {
     pub const CONTACT_POINTS: &str = "contact.points_per_element";
     /// Centre distance of a two-pulley drive [m].
     pub const CENTER_DISTANCE: &str = "pulleys.center_distance";
+    /// Tensioner spring stiffness [N m/rad].
+    pub const TENSIONER_STIFFNESS: &str = "tensioner.stiffness";
+    /// Tensioner spring torque at the design angle [N m].
+    pub const TENSIONER_PRELOAD: &str = "tensioner.preload";
+    /// Tensioner arm damping [N m s/rad].
+    pub const TENSIONER_DAMPING: &str = "tensioner.damping";
+    /// Tensioner arm inertia about the pivot [kg m2].
+    pub const TENSIONER_INERTIA: &str = "tensioner.inertia";
 }
 
 use names::*;
@@ -185,6 +204,31 @@ pub fn check(s: &BeltDriveScene) -> Result<(), Vec<String>> {
         let (a, b) = (s.pulley[0].center, s.pulley[1].center);
         if a == b {
             errs.push("pulley[1].center: must differ from pulley[0].center".into());
+        }
+    }
+    if let Some(t) = &s.tensioner {
+        let ok = t.pulley >= 1
+            && (t.pulley as usize) <= s.pulley.len()
+            && s.pulley[t.pulley as usize - 1].mode == PulleyMode::Free;
+        if !ok {
+            errs.push(format!(
+                "tensioner.pulley = {}: must name a free pulley (1 to {})",
+                t.pulley,
+                s.pulley.len()
+            ));
+        }
+        if !t.pivot.iter().all(|v| v.is_finite()) {
+            errs.push("tensioner.pivot: must be finite numbers".into());
+        }
+        for (key, v) in [
+            ("stiffness", t.stiffness),
+            ("preload", t.preload),
+            ("damping", t.damping),
+            ("inertia", t.inertia),
+        ] {
+            if !v.is_finite() {
+                errs.push(format!("tensioner.{key}: must be a finite number"));
+            }
         }
     }
     if let Some(n) = s.outputs.belt_points
@@ -356,6 +400,36 @@ pub fn params(s: &BeltDriveScene) -> Result<Vec<ParamDef>, String> {
             ));
         }
     }
+    if let Some(t) = &s.tensioner {
+        out.push(ParamDef::new(
+            TENSIONER_STIFFNESS,
+            real(t.stiffness),
+            Some(Unit::NMPerRad),
+            "Torsion spring stiffness of the tensioner arm",
+            Check::Positive,
+        ));
+        out.push(ParamDef::new(
+            TENSIONER_PRELOAD,
+            real(t.preload),
+            Some(Unit::NM),
+            "Spring torque on the tensioner arm at its design angle (the idler centre of the scene), turning the idler into the belt",
+            Check::NonNegative,
+        ));
+        out.push(ParamDef::new(
+            TENSIONER_DAMPING,
+            real(t.damping),
+            Some(Unit::NMSPerRad),
+            "Viscous damping of the tensioner arm (torque -c dpsi/dt)",
+            Check::NonNegative,
+        ));
+        out.push(ParamDef::new(
+            TENSIONER_INERTIA,
+            real(t.inertia),
+            Some(Unit::KgM2),
+            "Moment of inertia of the tensioner arm with its idler about the pivot",
+            Check::Positive,
+        ));
+    }
     out.extend(gravity_params_2d(s.gravity.as_ref()));
     Ok(out)
 }
@@ -438,6 +512,43 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
             Unit::N,
             "Force the belt exerts on the pulley, y",
             BeltOutput::PulleyForceY(i),
+        );
+        if s.pulley.len() >= 3 {
+            add(
+                "slip",
+                Unit::One,
+                "Speed loss of the pulley against pulley 1 by creep and sliding: 1 - s omega rho/(s_1 omega_1 rho_1), rho = pitch radius, s = +1 front side, -1 back side (0 while pulley 1 is at rest)",
+                BeltOutput::PulleySlip(i),
+            );
+        }
+    }
+    if s.pulley.len() >= 3 {
+        for i in 0..s.pulley.len() {
+            belt(
+                format!("span{}.tension", i + 1),
+                Unit::N,
+                &format!(
+                    "Axial force in the middle of span {}, from pulley {} to pulley {}",
+                    i + 1,
+                    i + 1,
+                    (i + 1) % s.pulley.len() + 1
+                ),
+                BeltOutput::SpanTension(i),
+            );
+        }
+    }
+    if s.tensioner.is_some() {
+        belt(
+            "tensioner.angle".into(),
+            Unit::Rad,
+            "Angle of the tensioner arm from its design position (counter-clockwise)",
+            BeltOutput::TensionerAngle,
+        );
+        belt(
+            "tensioner.torque".into(),
+            Unit::NM,
+            "Spring plus damper torque on the tensioner arm (counter-clockwise)",
+            BeltOutput::TensionerTorque,
         );
     }
     belt(
