@@ -14,6 +14,7 @@ use flexfmu::elements::corotational3d::BeamSection;
 use flexfmu::integrators::{GeneralizedAlpha, Integrator};
 use flexfmu::kinds::belt_3d::model::{Belt3d, Belt3dSpec, Pulley3dDef, Pulley3dMotion};
 use flexfmu::kinds::belt_3d::scene::{Output as SpatialOutput, PulleyInput as SpatialInput};
+use flexfmu::kinds::belt_drive::PulleySide;
 use flexfmu::kinds::belt_drive::model::{
     BeltDrive, BeltElementKind, BeltPath, BeltSpec, PulleyDef, PulleyKind, default_contact,
 };
@@ -94,6 +95,7 @@ impl Drive {
                     center: Vector2::zeros(),
                     radius: self.radii[0],
                     kind: PulleyKind::Driven,
+                    side: PulleySide::Front,
                 },
                 PulleyDef {
                     center: Vector2::new(self.distance, 0.0),
@@ -102,11 +104,13 @@ impl Drive {
                         inertia: 0.01,
                         damping: 0.2,
                     },
+                    side: PulleySide::Front,
                 },
             ],
             contact: self.contact(),
             points_per_element: 4,
             gravity: Vector2::zeros(),
+            tensioner: None,
             path: BeltPath::Closed {
                 n_elements: n_el,
                 pretension: self.pretension,
