@@ -19,9 +19,18 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
 
-/// `--run N H`: 20 runs of 1 s, the best wall time per run and the solver statistics.
-fn profile_run(scene: &Scene, n: i32, h: f64) {
+/// `--run N H [NAME=VALUE...]`: 20 runs of 1 s (with the given parameters), the best wall time per run and the solver statistics.
+fn profile_run(scene: &Scene, n: i32, h: f64, extra: &[String]) {
     let mut p = ParamValues::defaults(&scene.params);
+    for kv in extra {
+        let (k, v) = kv.split_once('=').expect("extra arguments are NAME=VALUE");
+        let value = match v.parse::<i32>() {
+            Ok(i) => Value::Integer(i),
+            Err(_) => Value::Real(v.parse().expect("a number")),
+        };
+        // Parameter names are 'static in the table; a handful of leaked names is fine here.
+        p.set(Box::leak(k.to_string().into_boxed_str()), value);
+    }
     p.set("mesh.n_elements", Value::Integer(n));
     p.set("element.type", Value::Integer(2));
     p.set("solver.max_step", Value::Real(h));
@@ -52,6 +61,7 @@ fn main() {
             &scene,
             args[i + 1].parse().unwrap(),
             args[i + 2].parse().unwrap(),
+            &args[i + 3..],
         );
         return;
     }

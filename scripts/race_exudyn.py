@@ -18,7 +18,9 @@ converge to the same answer).
 
 Error: the largest distance of the tip from the reference over the run, sampled every 20 ms
 (every step size of the grid divides 20 ms: no interpolation enters). Wall time: the solver
-only, the best of two runs for runs under 0.2 s (flexfmu: one fmi2DoStep over the whole second;
+only, the best of repeated runs until they together took 0.2 s, at most seven (a run over 0.2 s
+runs once; the same rule for both programs: short runs are the noisy ones) (flexfmu: one
+fmi2DoStep over the whole second;
 Exudyn: SolveDynamic with the sensor off; setup, assembly and initialization excluded for both).
 Each (elements, step) cell runs both programs one after the other, so machine load affects
 both alike.
@@ -72,6 +74,14 @@ LEVELS = [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5]
 # flexfmu through fmpy
 # ----------------------------------------------------------------------------------------------
 
+REPS = 7  # at most this many timed runs per configuration
+
+
+def enough(spent):
+    """Stop repeating once the timed runs together took 0.2 s (a run over 0.2 s runs once)."""
+    return spent > 0.2
+
+
 class Flexfmu:
     """The pendulum FMU, extracted once; one FMU2Slave per run."""
 
@@ -97,10 +107,10 @@ class Flexfmu:
         s.exitInitializationMode()
         return s
 
-    def run(self, n, h, integrator, newton, tol, record=True, reps=2):
+    def run(self, n, h, integrator, newton, tol, record=True, reps=REPS):
         params = {"element.type": 2, "mesh.n_elements": n, "solver.integrator": integrator,
                   "solver.max_step": h, "solver.newton": newton, "solver.newton_tolerance": tol}
-        wall = math.inf
+        wall, spent = math.inf, 0.0
         for _ in range(reps):
             s = self.instance(params)
             t0 = time.perf_counter()
@@ -108,8 +118,8 @@ class Flexfmu:
             dt = time.perf_counter() - t0
             s.terminate()
             s.freeInstance()
-            wall = min(wall, dt)
-            if dt > 0.2:
+            wall, spent = min(wall, dt), spent + dt
+            if enough(spent):
                 break
         traj = None
         if record:
@@ -170,9 +180,9 @@ def exudyn_settings(exu, h, solver, modified, tol, linear):
                 else exu.DynamicSolverType.GeneralizedAlpha)
 
 
-def exudyn_run(n, h, solver, modified, tol, linear, reduced, record=True, reps=2):
+def exudyn_run(n, h, solver, modified, tol, linear, reduced, record=True, reps=REPS):
     from exudyn.itemInterface import SensorNode
-    wall = math.inf
+    wall, spent = math.inf, 0.0
     for _ in range(reps):
         exu, sc, mbs, d = exudyn_system(n, reduced)
         mbs.Assemble()
@@ -180,8 +190,8 @@ def exudyn_run(n, h, solver, modified, tol, linear, reduced, record=True, reps=2
         t0 = time.perf_counter()
         exu.SolveDynamic(mbs, ss, solverType=st)
         dt = time.perf_counter() - t0
-        wall = min(wall, dt)
-        if dt > 0.2:
+        wall, spent = min(wall, dt), spent + dt
+        if enough(spent):
             break
     traj = None
     if record:
