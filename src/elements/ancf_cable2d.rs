@@ -443,11 +443,10 @@ impl AncfCable2d {
             let m = s.ei * kv + s.damping_bending * k_dot;
             *f += (p.w * m) * dk;
             u += 0.5 * p.w * s.ei * kv * kv;
-            k.ger(p.w * s.ei, &dk, &dk, 1.0);
-            Self::add_curvature_hessian(p, cv, g, &dc, &dg, p.w * m, k);
+            Self::add_curvature_hessian(p, cv, g, &dc, &dg, p.w * s.ei, p.w * m, k);
             if damped_bending {
                 let mut h = ElemMat::zeros();
-                Self::add_curvature_hessian(p, cv, g, &dc, &dg, 1.0, &mut h);
+                Self::add_curvature_hessian(p, cv, g, &dc, &dg, 0.0, 1.0, &mut h);
                 let dk_dot = h * qd;
                 k.ger(p.w * s.damping_bending, &dk, &dk_dot, 1.0);
                 c.ger(p.w * s.damping_bending, &dk, &dk, 1.0);
@@ -456,16 +455,20 @@ impl AncfCable2d {
         u
     }
 
-    /// Adds `scale · ∂²K/∂q²` to `out`, for `K = c/g`:
-    /// `∂²c/g − (∂c ∂gᵀ + ∂g ∂cᵀ)/g² − c ∂²g/g² + 2c ∂g ∂gᵀ/g³`, with
+    /// Adds `outer · ∂K ∂Kᵀ + scale · ∂²K/∂q²` to `out`, for `K = c/g`:
+    /// `∂²K = ∂²c/g − (∂c ∂gᵀ + ∂g ∂cᵀ)/g² − c ∂²g/g² + 2c ∂g ∂gᵀ/g³`, with
     /// `∂²c_ab = s'_a s''_b J + s''_a s'_b Jᵀ` (`J = [[0, 1], [−1, 0]]`) and `∂²g_ab = 2 s'_a s'_b I`.
+    /// With `∂K = ∂c/g − c ∂g/g²` every rank-one term is `A ∂c ∂cᵀ + B (∂c ∂gᵀ + ∂g ∂cᵀ) +
+    /// C ∂g ∂gᵀ = ∂c ⊗ (A ∂c + B ∂g) + ∂g ⊗ (B ∂c + C ∂g)`: two rank-one updates instead of four.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     fn add_curvature_hessian(
         p: &Point,
         c: f64,
         g: f64,
         dc: &ElemVec,
         dg: &ElemVec,
+        outer: f64,
         scale: f64,
         out: &mut ElemMat,
     ) {
@@ -482,9 +485,12 @@ impl AncfCable2d {
                 out[(2 * a + 1, 2 * b)] -= x;
             }
         }
-        out.ger(-scale * inv_g2, dc, dg, 1.0);
-        out.ger(-scale * inv_g2, dg, dc, 1.0);
-        out.ger(2.0 * scale * c * inv_g2 * inv_g, dg, dg, 1.0);
+        let inv_g3 = inv_g2 * inv_g;
+        let ca = outer * inv_g2;
+        let cb = -outer * c * inv_g3 - scale * inv_g2;
+        let cc = outer * c * c * inv_g2 * inv_g2 + 2.0 * scale * c * inv_g3;
+        out.ger(1.0, dc, &(ca * dc + cb * dg), 1.0);
+        out.ger(1.0, dg, &(cb * dc + cc * dg), 1.0);
     }
 
     /// Strain quantities at a point (for tests and outputs): `(ε, K)`.
