@@ -183,8 +183,10 @@ fn static_tensioner_equilibrium_matches_the_hand_calculation() {
 }
 
 /// A back-side idler in the static pre-load: the belt presses it away from the loop with the
-/// resultant of the two span tensions, `2 T sin(θ/2)` along the bisector of its wrap `θ`
-/// (frictionless statics of a belt of one tension), and it turns clockwise when the belt runs.
+/// resultant of the two span tensions, `T (t_out − t_in)` (t the unit directions of the leaving
+/// and arriving spans, the belt running on), of magnitude `2 T sin(θ/2)` along the bisector of
+/// its wrap `θ` (frictionless statics of a belt of one tension), and it turns clockwise when the
+/// belt runs.
 #[test]
 fn back_side_idler_force_and_turning_direction() {
     let (scene, p) = serpentine(&[]);
@@ -202,7 +204,7 @@ fn back_side_idler_force_and_turning_direction() {
     let lp = Loop::with_sides(&circles, &sides).unwrap();
     let t = 0.5 * (m.span_tensions()[k - 1] + m.span_tensions()[k]);
     let dir = |i: usize| (lp.spans[i].end - lp.spans[i].start).normalize();
-    let expect = t * (dir(k - 1) - dir(k));
+    let expect = t * (dir(k) - dir(k - 1));
     let f = m.pulley_force(k);
     println!(
         "back-side idler: force {:?} N, expected {:?} N (wrap {:.2} deg)",
@@ -210,7 +212,9 @@ fn back_side_idler_force_and_turning_direction() {
         expect,
         lp.wrap[k].to_degrees()
     );
-    // pushed away from the loop: outward, i.e. away from the centre of the front pulleys
+    // pushed away from the loop: the idler lies below the spans to the water pump and the
+    // alternator, the belt pushes it up (+y)
+    assert!(f.y > 0.0, "outward");
     assert!((f - expect).norm() < 0.02 * expect.norm());
     assert!((expect.norm() - 2.0 * t * (0.5 * lp.wrap[k]).sin()).abs() < 1e-9 * t);
 

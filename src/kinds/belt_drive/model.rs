@@ -420,7 +420,12 @@ impl BeltDrive {
         let contact_blocks = Connectivity::new(blocks, &asm);
         let tensioner = match (spec.tensioner, &lp) {
             (Some(def), Some(lp)) => {
-                let (psi_d, arm, sigma) = super::tensioner::design(&def, lp)?;
+                let des = super::tensioner::design(&def, lp)?;
+                let (psi_d, arm, sigma) = (des.angle, des.arm, des.sigma);
+                let t_mount = match spec.path {
+                    BeltPath::Closed { pretension, .. } => pretension,
+                    BeltPath::Open { .. } => 0.0,
+                };
                 let arm_blocks: Vec<[usize; 10]> = connectivity
                     .iter()
                     .map(|d| {
@@ -441,6 +446,7 @@ impl BeltDrive {
                     dof: arm_dof,
                     design: psi_d,
                     free_angle: psi_d + sigma * def.preload / def.stiffness,
+                    mounted_free_angle: psi_d + sigma * t_mount * des.lever / def.stiffness,
                     contact: ContactPointSet::new(
                         spec.contact,
                         vec![obstacle],
@@ -775,7 +781,11 @@ impl BeltDrive {
             jac.as_mut().map(|(c, v)| (*c, &mut **v)),
         );
         if self.tensioner.is_some() {
-            self.add_tensioner_residual(&mut f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+            self.add_tensioner_residual(
+                load_factor,
+                &mut f,
+                jac.as_mut().map(|(c, v)| (*c, &mut **v)),
+            );
             let mut ten = self.tensioner.take();
             if let Some(tn) = ten.as_mut() {
                 tn.contact.add_residual(
