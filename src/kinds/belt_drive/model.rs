@@ -284,6 +284,10 @@ pub struct BeltDrive {
     /// pre-load, a static initialization): otherwise belt and free pulleys turning together
     /// are a mechanism.
     pub(super) held_angles: Option<Vec<f64>>,
+    /// During the frictionless static pre-load of a drive with a tensioner: the first belt
+    /// node is held at this position [m] by a spring of this stiffness [N/m] (without
+    /// friction the belt sliding round its loop is a mechanism; see `preload.rs`).
+    pub(super) belt_anchor: Option<(Vector2<f64>, f64)>,
     // work buffers
     pub(super) qw: Vec<f64>,
     pub(super) vw: Vec<f64>,
@@ -540,6 +544,7 @@ impl BeltDrive {
             energy: EnergyBook::default(),
             preload: PreloadReport::default(),
             held_angles: None,
+            belt_anchor: None,
             asm,
             spec,
         };
@@ -796,6 +801,14 @@ impl BeltDrive {
                 );
             }
             self.tensioner = ten;
+        }
+        if let Some((anchor, k)) = self.belt_anchor {
+            f[0] += k * (self.qw[0] - anchor.x);
+            f[1] += k * (self.qw[1] - anchor.y);
+            if let Some((c, vals)) = jac.as_mut() {
+                self.asm.add_entry(0, 0, c.stiffness * k, vals);
+                self.asm.add_entry(1, 1, c.stiffness * k, vals);
+            }
         }
         // external: gravity and end loads
         for (fi, g) in f.iter_mut().zip(&self.gravity_full) {
