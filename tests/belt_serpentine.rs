@@ -289,8 +289,8 @@ fn step(
 
 /// Euler–Eytelwein at slip onset on the accessories: with the crank turning at 30 rad/s, the
 /// load torque on one pulley is raised until it slides (its slip against the crank past 5 %);
-/// the largest ratio of its leaving (tight) to its arriving (slack) span tension, less the
-/// centrifugal tension m v², must reach `e^{μθ}` (θ its wrap on the pitch circle, from the
+/// the largest ratio of its leaving (tight) to its arriving (slack) span tension (each averaged
+/// over 10 ms), less the centrifugal tension m v², must reach `e^{μθ}` (θ its wrap on the pitch circle, from the
 /// loop at the tensioner's current angle; Euler 1762 / Eytelwein 1808, the capstan equation)
 /// within 4 %, and no more than 2 % beyond. The crankshaft's own limit (wrap 151°) lies higher
 /// than every accessory's, so the loaded pulley slips first.
@@ -313,6 +313,7 @@ fn euler_eytelwein_at_slip_onset_on_the_accessories() {
         let capacity = ((mu * 2.0).exp() - 1.0) * t_in0 * rho;
         let rate = capacity / 0.3;
         let (mut angle, mut best, mut theta_best, mut slid) = (0.0, 0.0f64, 0.0, false);
+        let mut window: Vec<(f64, f64)> = Vec::with_capacity(11);
         let mut t: f64 = 0.0;
         while t < 0.8 {
             let load = -rate * (t - 0.1).max(0.0);
@@ -322,8 +323,18 @@ fn euler_eytelwein_at_slip_onset_on_the_accessories() {
             let spans = d.span_tensions();
             let v = w0 * d.pitch_radius(0);
             let c = m_belt * v * v;
-            let ratio = (spans[k] - c) / (spans[k - 1] - c);
-            if t > 0.1 && ratio > best {
+            // tensions averaged over the last 10 ms (one period of the spans' first
+            // transverse mode, about 100 Hz): the largest ratio of raw samples picks the peaks
+            // of their ±5 N ripple (up to +1 % on the ratio)
+            window.push((spans[k] - c, spans[k - 1] - c));
+            if window.len() > 10 {
+                window.remove(0);
+            }
+            let (tight, slack) = window
+                .iter()
+                .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+            let ratio = tight / slack;
+            if t > 0.1 && window.len() == 10 && ratio > best {
                 best = ratio;
                 let circles: Vec<PitchCircle> = (0..np)
                     .map(|i| PitchCircle {
