@@ -147,6 +147,10 @@ fn static_tensioner_equilibrium_matches_the_hand_calculation() {
     ]);
     let tables: &BeltDriveScene = scene.tables().unwrap();
     let m = BeltDrive::build(tables, &p).unwrap();
+    assert!(
+        m.preload_was_frictionless(),
+        "the frictionless pre-load fell back"
+    );
     let l0 = m.element_length() * m.n_elements() as f64;
     // spring direction: against the belt's moment on the arm
     let sigma = -m.tensioner_belt_moment().signum();

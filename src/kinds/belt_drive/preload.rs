@@ -56,7 +56,15 @@ impl BeltDrive {
                 t.contact.set_law(law);
             }
             self.belt_anchor = None;
+            if result.is_err() {
+                // the frictionless solve does not converge on every mesh (the shipped drive
+                // at 60 elements: Newton stalls from the mounted state); the pre-load with
+                // friction (arcs at the mounting tension) is the fallback
+                self.frictionless_preload = false;
+                return self.preload_solve(pretension);
+            }
         }
+        self.frictionless_preload = frictionless;
         result
     }
 
@@ -100,5 +108,10 @@ impl BeltDrive {
     /// Report of the static pre-load.
     pub fn preload_report(&self) -> &PreloadReport {
         &self.preload
+    }
+
+    /// Whether the static pre-load was solved without friction (see [`Self::preload`]).
+    pub fn preload_was_frictionless(&self) -> bool {
+        self.frictionless_preload
     }
 }
