@@ -14,6 +14,7 @@ use flexfmu::elements::corotational3d::BeamSection;
 use flexfmu::integrators::{GeneralizedAlpha, Integrator};
 use flexfmu::kinds::belt_3d::model::{Belt3d, Belt3dSpec, Pulley3dDef, Pulley3dMotion};
 use flexfmu::kinds::belt_3d::scene::{Output as SpatialOutput, PulleyInput as SpatialInput};
+use flexfmu::kinds::belt_drive::PulleySide;
 use flexfmu::kinds::belt_drive::model::{
     BeltDrive, BeltElementKind, BeltPath, BeltSpec, PulleyDef, PulleyKind, default_contact,
 };
@@ -93,11 +94,13 @@ impl Drive {
                 PulleyDef {
                     center: Vector2::zeros(),
                     radius: self.radii[0],
+                    side: PulleySide::Front,
                     kind: PulleyKind::Driven,
                 },
                 PulleyDef {
                     center: Vector2::new(self.distance, 0.0),
                     radius: self.radii[1],
+                    side: PulleySide::Front,
                     kind: PulleyKind::Free {
                         inertia: 0.01,
                         damping: 0.2,
@@ -107,6 +110,7 @@ impl Drive {
             contact: self.contact(),
             points_per_element: 4,
             gravity: Vector2::zeros(),
+            tensioner: None,
             path: BeltPath::Closed {
                 n_elements: n_el,
                 pretension: self.pretension,

@@ -157,7 +157,6 @@ fn static_tensioner_equilibrium_matches_the_hand_calculation() {
     let hand = hand_equilibrium(&scene, &p, l0, sigma);
     let angle = m.tensioner_angle();
     let spans = m.span_tensions().to_vec();
-    let el: Vec<f64> = (0..m.n_elements()).map(|e| m.element_tension(e)).collect();
     println!(
         "tensioner statics: arm angle {:.4} mrad (hand {:.4} mrad), tension hand {:.2} N, spans {:?} N, spring torque {:.4} N m, belt moment {:.4} N m, pre-load {} solve(s), {} Newton iterations",
         1e3 * angle,
