@@ -94,12 +94,14 @@ impl Drive {
                 PulleyDef {
                     center: Vector2::zeros(),
                     radius: self.radii[0],
+                    side: PulleySide::Front,
                     kind: PulleyKind::Driven,
                     side: PulleySide::Front,
                 },
                 PulleyDef {
                     center: Vector2::new(self.distance, 0.0),
                     radius: self.radii[1],
+                    side: PulleySide::Front,
                     kind: PulleyKind::Free {
                         inertia: 0.01,
                         damping: 0.2,

@@ -7,7 +7,7 @@ use flexfmu::variables::VariableTable;
 
 mod common;
 
-const SHIPPED: [&str; 10] = [
+const SHIPPED: [&str; 11] = [
     "cantilever",
     "simply_supported",
     "pendulum",
@@ -18,6 +18,7 @@ const SHIPPED: [&str; 10] = [
     "belt_drive",
     "belt_drive_cosim",
     "belt_drive_inertia",
+    "serpentine",
 ];
 
 /// Kind names are unique and each names its module; every kind is reachable by name.

@@ -129,6 +129,13 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
         &self.law
     }
 
+    /// Replaces the contact constants (e.g. `mu = 0` for a frictionless static solve; a
+    /// commit under `mu = 0` leaves every friction history at rest: zero bristle force at the
+    /// committed position).
+    pub fn set_law(&mut self, law: ContactLaw) {
+        self.law = law;
+    }
+
     /// The obstacles.
     pub fn obstacles(&self) -> &[O] {
         &self.obstacles

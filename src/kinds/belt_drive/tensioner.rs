@@ -43,22 +43,41 @@ pub(super) struct Tensioner {
     pub(super) design: f64,
     /// Free angle of the spring `ψ_free` [rad].
     pub(super) free_angle: f64,
+    /// Free angle `ψ_m` at which the spring balances the mounted belt (one tension, the
+    /// mounting tension, on the design layout) at the design angle [rad]: the start of the
+    /// static pre-load's continuation in the spring's pre-load (see
+    /// [`BeltDrive::add_tensioner_residual`]).
+    pub(super) mounted_free_angle: f64,
     /// Contact of the belt with the idler; blocks: element coordinates, idler angle, `ψ`.
     pub(super) contact: ContactPointSet<ArmPulley, 2, 4, 10>,
     /// Moment of the belt on the arm in the committed state [N m].
     pub(super) belt_moment: f64,
 }
 
-/// Design angle, arm length and spring direction `σ` of a tensioner whose idler `j` has the
-/// centre `c` on the loop `lp` (the direction opposing the moment of the belt's tension on the
-/// idler, `(c − p) × (t_out − t_in)`).
-pub(super) fn design(def: &TensionerDef, lp: &Loop) -> Result<(f64, f64, f64), String> {
+/// What [`design`] finds of a tensioner on its loop.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Design {
+    /// Design angle `ψ_d` [rad] (polar angle of the idler centre about the pivot).
+    pub(super) angle: f64,
+    /// Arm length `|c − p|` [m].
+    pub(super) arm: f64,
+    /// Spring direction `σ = ±1`.
+    pub(super) sigma: f64,
+    /// Moment arm of the belt's tension about the pivot `|(c − p) × (t_out − t_in)|` [m]: a
+    /// belt of one tension `T` has the moment `T` times this on the arm.
+    pub(super) lever: f64,
+}
+
+/// Design angle, arm length, spring direction `σ` and lever of a tensioner whose idler `j` has
+/// the centre `c` on the loop `lp` (`σ` opposes the moment of the belt's tension on the idler,
+/// `(c − p) × (t_out − t_in)`, t the unit directions of the leaving and arriving spans).
+pub(super) fn design(def: &TensionerDef, lp: &Loop) -> Result<Design, String> {
     let j = def.pulley;
     let n = lp.circles.len();
     let c = lp.circles[j].center;
     let arm = c - def.pivot;
     let l = arm.norm();
-    if !(l > lp.circles[j].radius * 1e-3) {
+    if l.is_nan() || l <= lp.circles[j].radius * 1e-3 {
         return Err(format!(
             "tensioner.pivot: the pivot must lie away from the idler centre (pulley{})",
             j + 1
@@ -76,7 +95,12 @@ pub(super) fn design(def: &TensionerDef, lp: &Loop) -> Result<(f64, f64, f64), S
             j + 1
         ));
     }
-    Ok((arm.y.atan2(arm.x), l, -m.signum()))
+    Ok(Design {
+        angle: arm.y.atan2(arm.x),
+        arm: l,
+        sigma: -m.signum(),
+        lever: m.abs(),
+    })
 }
 
 impl BeltDrive {
@@ -113,17 +137,33 @@ impl BeltDrive {
 
     /// Adds the arm equation `I ψ̈ + c ψ̇ + k (ψ − ψ_free)` into the full residual and the
     /// iteration matrix (the contact adds its own terms).
+    ///
+    /// During static solves (free pulleys held, [`MechanicalSystem::hold_for_statics`]) the
+    /// spring's free angle follows the load factor `λ`: `ψ_m + λ (ψ_free − ψ_m)`, from the
+    /// angle `ψ_m` that balances the mounted belt at the design angle to the scene's. The
+    /// static solver's load stepping then walks the arm from the mounted state to its
+    /// equilibrium (a pre-load far from the mounting tension's balance moves the arm by tens
+    /// of mrad, which one Newton solve from the mounted state does not converge to); at
+    /// `λ = 1`, and in every dynamic step, the spring is the scene's.
+    ///
+    /// [`MechanicalSystem::hold_for_statics`]: crate::model::MechanicalSystem::hold_for_statics
     pub(super) fn add_tensioner_residual(
         &self,
+        load_factor: f64,
         f: &mut [f64],
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) {
         let Some(t) = &self.tensioner else { return };
         let d = t.dof;
         let def = &t.def;
+        let free = if self.held_angles.is_some() {
+            t.mounted_free_angle + load_factor * (t.free_angle - t.mounted_free_angle)
+        } else {
+            t.free_angle
+        };
         f[d] += def.inertia * self.aw[d]
             + def.damping * self.vw[d]
-            + def.stiffness * (self.qw[d] - t.free_angle);
+            + def.stiffness * (self.qw[d] - free);
         if let Some((c, vals)) = jac {
             let m = c.mass * def.inertia + c.damping * def.damping + c.stiffness * def.stiffness;
             self.asm.add_entry(d, d, m, vals);
