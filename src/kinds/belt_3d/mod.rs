@@ -4,6 +4,7 @@
 //! in [`model`].
 
 pub mod model;
+pub mod path;
 pub mod scene;
 
 use crate::scene::tables::{ExperimentSection, FmuSection, Gravity3d, SolverSection};
@@ -63,7 +64,9 @@ pub struct Belt3dScene {
     /// Belt–pulley contact.
     pub contact: Contact3d,
     /// `[[pulley]]`: the pulleys in the order the belt wraps them, counter-clockwise about
-    /// +z in the plane z = 0 in which the belt is mounted; the first is `pulley1`.
+    /// each pulley's axis; the first is `pulley1`. With all axes along z the belt is mounted
+    /// in the plane z = 0; with crossed axes along the path in space of
+    /// [`path::SpacePath`] (quarter-twist drive).
     #[serde(default)]
     pub pulley: Vec<Pulley3dSpec>,
     /// Gravity (omit for none).

@@ -158,9 +158,9 @@ pub fn check(s: &Belt3dScene) -> Result<(), Vec<String>> {
             errs.push(format!("{key}.center, axis: must be finite numbers"));
         }
         let n = norm3(&p.axis);
-        if n.is_nan() || n <= 0.0 || (p.axis[2] / n).abs() < 0.5 {
+        if n.is_nan() || n <= 0.0 {
             errs.push(format!(
-                "{key}.axis: the belt is mounted in the plane z = 0; the nominal axis must be within 60 degrees of z (tilt it with `tilt`)"
+                "{key}.axis: must be a non-zero direction (all along z: the belt is mounted in the plane z = 0; crossed axes: along the path in space of the quarter-twist drive)"
             ));
         }
         match (p.mode, p.inertia) {
