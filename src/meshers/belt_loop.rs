@@ -170,7 +170,7 @@ impl Loop {
                 let (a, b) = (&spans[i], &spans[j]);
                 if segments_cross(a.start, a.end, b.start, b.end) {
                     return Err(format!(
-                        "the span from pulley{} to pulley{} crosses the span from pulley{} to pulley{}: reorder the pulleys or change the wrap side of one",
+                        "the span from pulley{} to pulley{} crosses the span from pulley{} to pulley{}: reorder the pulleys, move them (pulley.center, radius) or change the wrap side of one",
                         a.from + 1,
                         a.to + 1,
                         b.from + 1,

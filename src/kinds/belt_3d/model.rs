@@ -1085,6 +1085,53 @@ impl MechanicalSystem for Belt3d {
     }
 }
 
+/// The mounted path: planar (pulley axes along z) or in space.
+enum Mount {
+    Plane(Loop),
+    Space(SpacePath),
+}
+
+impl Mount {
+    fn length(&self) -> f64 {
+        match self {
+            Mount::Plane(lp) => lp.length,
+            Mount::Space(sp) => sp.length,
+        }
+    }
+
+    fn span_middles(&self) -> Vec<Vector3<f64>> {
+        match self {
+            Mount::Plane(lp) => (0..lp.spans.len())
+                .map(|i| {
+                    let m = lp.at(lp.span_middle(i)).r;
+                    Vector3::new(m.x, m.y, 0.0)
+                })
+                .collect(),
+            Mount::Space(sp) => sp.span_middles(),
+        }
+    }
+
+    /// Position, tangent, width direction and (in space) the pulley whose arc the point at
+    /// arc length `s` lies on.
+    fn at(&self, s: f64) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>, Option<usize>) {
+        match self {
+            Mount::Plane(lp) => {
+                let p = lp.at(s);
+                (
+                    Vector3::new(p.r.x, p.r.y, 0.0),
+                    Vector3::new(p.t.x, p.t.y, 0.0),
+                    Vector3::z(),
+                    None,
+                )
+            }
+            Mount::Space(sp) => {
+                let p = sp.at(s);
+                (p.r, p.t, p.w, p.pulley)
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1260,52 +1307,5 @@ mod tests {
             "the belt touches the pulleys"
         );
         check_jacobian(&mut m, &s);
-    }
-}
-
-/// The mounted path: planar (pulley axes along z) or in space.
-enum Mount {
-    Plane(Loop),
-    Space(SpacePath),
-}
-
-impl Mount {
-    fn length(&self) -> f64 {
-        match self {
-            Mount::Plane(lp) => lp.length,
-            Mount::Space(sp) => sp.length,
-        }
-    }
-
-    fn span_middles(&self) -> Vec<Vector3<f64>> {
-        match self {
-            Mount::Plane(lp) => (0..lp.spans.len())
-                .map(|i| {
-                    let m = lp.at(lp.span_middle(i)).r;
-                    Vector3::new(m.x, m.y, 0.0)
-                })
-                .collect(),
-            Mount::Space(sp) => sp.span_middles(),
-        }
-    }
-
-    /// Position, tangent, width direction and (in space) the pulley whose arc the point at
-    /// arc length `s` lies on.
-    fn at(&self, s: f64) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>, Option<usize>) {
-        match self {
-            Mount::Plane(lp) => {
-                let p = lp.at(s);
-                (
-                    Vector3::new(p.r.x, p.r.y, 0.0),
-                    Vector3::new(p.t.x, p.t.y, 0.0),
-                    Vector3::z(),
-                    None,
-                )
-            }
-            Mount::Space(sp) => {
-                let p = sp.at(s);
-                (p.r, p.t, p.w, p.pulley)
-            }
-        }
     }
 }

@@ -58,7 +58,7 @@ pub(super) fn design(def: &TensionerDef, lp: &Loop) -> Result<(f64, f64, f64), S
     let c = lp.circles[j].center;
     let arm = c - def.pivot;
     let l = arm.norm();
-    if !(l > lp.circles[j].radius * 1e-3) {
+    if l.is_nan() || l <= lp.circles[j].radius * 1e-3 {
         return Err(format!(
             "tensioner.pivot: the pivot must lie away from the idler centre (pulley{})",
             j + 1
