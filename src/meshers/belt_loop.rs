@@ -104,7 +104,7 @@ impl Loop {
                     "sum"
                 };
                 return Err(format!(
-                    "pulley{0}.center, pulley{1}.center, pulley{0}.radius, pulley{1}.radius (pulleys {0} and {1}): the centre distance {l:.6} m must exceed the {what} of the pitch radii {2:.6} m",
+                    "pulley{0}.center, pulley{1}.center, pulley{0}.radius, pulley{1}.radius (pulleys {0} and {1}): the centre distance {l:.6} m must exceed the {what} of the pitch radii (radius + belt.thickness/2) {2:.6} m",
                     i + 1,
                     j + 1,
                     (rho(i) - rho(j)).abs()
