@@ -120,6 +120,7 @@ impl Drive {
             n_points: 0,
             track_energy: false,
             statics: (newton(), SolverKind::Auto, 1),
+            tensioner: None,
         })
         .unwrap()
     }
@@ -148,6 +149,10 @@ impl Drive {
     }
 
     fn spatial(&self, n_el: usize, bowing: bool) -> Belt3d {
+        self.spatial_mounted(n_el, bowing, false)
+    }
+
+    fn spatial_mounted(&self, n_el: usize, bowing: bool, space_mount: bool) -> Belt3d {
         let rim = |center: Vector3<f64>, radius: f64, motion| Pulley3dDef {
             center,
             axis: Vector3::z(),
@@ -184,6 +189,7 @@ impl Drive {
             pretension: self.pretension,
             gravity: Vector3::zeros(),
             bowing,
+            space_mount,
         })
         .unwrap()
     }
@@ -225,6 +231,31 @@ fn planar_limit_span_tensions_at_rest() {
             }
         }
         println!("{row}");
+    }
+}
+
+/// The mount in space (`kinds::belt_3d::path`, built for pulleys on crossed axes) of a
+/// coplanar drive is the planar mount: pre-loaded to 300 N with 72 elements, the span
+/// tensions of both mounts agree within 0.1 % (measured: 0.02 %, 0.04 %).
+#[test]
+fn space_mount_of_coplanar_pulleys_is_the_planar_mount() {
+    let d = SHIPPED;
+    let mut t = vec![];
+    for space in [false, true] {
+        let mut m = d.spatial_mounted(72, true, space);
+        m.preload(Some(d.pretension), &newton())
+            .unwrap_or_else(|e| panic!("space mount {space}: {e}"));
+        // the planar mount numbers its spans from another start: compare sorted
+        let mut ts = m.span_tensions().to_vec();
+        ts.sort_by(f64::total_cmp);
+        t.push(ts);
+    }
+    println!(
+        "span tensions: planar mount {:?}, space mount {:?}",
+        t[0], t[1]
+    );
+    for i in 0..2 {
+        assert!((t[1][i] / t[0][i] - 1.0).abs() < 1e-3, "{t:?}");
     }
 }
 
@@ -510,4 +541,207 @@ fn skewed_pulley_walks_the_belt_onto_the_flange() {
         rate.abs() > 0.5 * expected && rate.abs() < expected,
         "lateral speed {rate} vs v skew {expected}"
     );
+}
+
+/// Runs `belt_drive_3d` with the parameters `params`, pulley 1 ramped to 10 rad/s over
+/// 0.1 s, no load, 1 ms steps, for `steps` steps; returns (t, belt2.lateral, belt1.lateral,
+/// belt.speed) after every step.
+fn lateral_trace(params: &[(&str, Value)], steps: usize) -> Vec<[f64; 4]> {
+    let scene = common::scene("belt_drive_3d");
+    let mut sim = common::simulation(&scene, params).unwrap();
+    let (ia, iw) = (
+        common::input_index(&scene, "pulley1.angle"),
+        common::input_index(&scene, "pulley1.omega"),
+    );
+    let (h, omega, ramp) = (1e-3, 10.0, 0.1);
+    let out = |sim: &Simulation, name: &str| common::output(&scene, sim, name);
+    let mut angle = 0.0;
+    let mut trace = vec![];
+    for i in 0..steps {
+        let t = i as f64 * h;
+        let r = |t: f64| (t / ramp).min(1.0);
+        let w = 0.5 * omega * (r(t) + r(t + h));
+        sim.set_input(ia, angle);
+        sim.set_input(iw, w);
+        sim.advance(t + h)
+            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
+        angle += w * h;
+        trace.push([
+            t + h,
+            out(&sim, "belt2.lateral"),
+            out(&sim, "belt1.lateral"),
+            out(&sim, "belt.speed"),
+        ]);
+    }
+    trace
+}
+
+/// Crown (exploration, prints, asserts nothing; issue 13 item 4 is OPEN): pulley 2 offset
+/// along its axis so that the belt runs `offset` (5 mm) off the middle of its rim, with and
+/// without a crown (0.5 mm on the 40 mm rim); prints belt2.lateral against time. Measured:
+/// without crown the belt stays at −5.000 mm, with it −5.000 → −4.979 mm in 0.45 s at
+/// 0.83 m/s (0.05 mm/s, against the belt speed times the crown slope at 5 mm, 10 mm/s): the
+/// centre-line contact does not centre the belt. One contact point per node at the centre
+/// line feels the crown only through the normal `e − R'(ζ) a`, which pushes the point down
+/// the slope (a string slides off a barrel); the real centring needs the belt lying across
+/// the crown (a contact moment about the belt's tangent tilting its section onto the cone,
+/// whose in-plane curvature steers the arriving span up the slope).
+#[test]
+#[ignore = "exploration: prints the lateral position, no check"]
+fn crown_exploration() {
+    let crown: f64 = std::env::var("BELT3D_CROWN").map_or(5e-4, |v| v.parse().unwrap());
+    let offset: f64 = std::env::var("BELT3D_OFFSET").map_or(5e-3, |v| v.parse().unwrap());
+    let steps: usize = std::env::var("BELT3D_STEPS").map_or(600, |v| v.parse().unwrap());
+    for c in [0.0, crown] {
+        let tr = lateral_trace(
+            &[
+                ("pulley2.crown", Value::Real(c)),
+                ("pulley2.offset_z", Value::Real(offset)),
+            ],
+            steps,
+        );
+        for s in tr.iter().step_by(50) {
+            println!(
+                "crown {:.2} mm t {:.3}: belt2.lateral {:+.3} mm belt1.lateral {:+.3} mm speed {:.3}",
+                1e3 * c,
+                s[0],
+                1e3 * s[1],
+                1e3 * s[2],
+                s[3]
+            );
+        }
+    }
+}
+
+/// Quarter-twist drive (`tests/data/conveyor_twist.toml`, issue 13; not yet shipped in
+/// `scenes/`: OPEN, the static pre-load of the belt mounted along the quarter-twist path
+/// does not converge (Newton diverges from the first increment; the mount kinks the belt
+/// edgewise by 2 atan(R/D) = 15.6° where each span leaves its pulley, and the departing
+/// span pulls the belt axially along the rim). Ignored until it does. Pulley 1 about z driven
+/// to 10 rad/s over 0.1 s, pulley 2 about −x loaded with 5 N m (ramped over 0.1 s), 1 ms
+/// steps, 0.4 s, means over the last 0.1 s. Checks, one quantity each:
+/// - the width direction at the middle of each span is turned about half a quarter turn
+///   from both pulleys' axes (the twist is spread over the span: the mount puts it there and
+///   the running belt keeps it, 45° ± 10°);
+/// - the driven pulley follows: its speed is pulley 1's times R1/R2 (= 1, equal radii) less
+///   the creep, within 1 %;
+/// - the torque the belt carries: the difference of span tensions times the pitch radius
+///   equals the belt torque on pulley 1 (Euler's belt equation of moments, torque = (T1 −
+///   T2) R), within 3 %, and in the steady state that torque equals the load plus the
+///   bearing damping `c ω2` on pulley 2 (its equation of motion), within 3 %;
+/// - energy balance: input work = stored + dissipated within 2 %.
+#[test]
+#[ignore = "open: the static pre-load of the quarter-twist mount diverges"]
+fn quarter_twist_drive_carries_torque() {
+    let scene = flexfmu::scene::Scene::from_path(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/conveyor_twist.toml"),
+    )
+    .unwrap();
+    let mut sim = common::simulation(&scene, &[]).unwrap();
+    let (ia, iw, it) = (
+        common::input_index(&scene, "pulley1.angle"),
+        common::input_index(&scene, "pulley1.omega"),
+        common::input_index(&scene, "pulley2.torque_in"),
+    );
+    let (h, omega, load, ramp, t_end, window): (f64, f64, f64, f64, f64, f64) =
+        (1e-3, 10.0, 5.0, 0.1, 0.4, 0.1);
+    let axes = [Vector3::z(), -Vector3::x()];
+    let energy = |sim: &Simulation| {
+        let m = sim.model_as::<Belt3d>().unwrap();
+        (
+            m.output_of(SpatialOutput::Energy(EnergyKind::Total)),
+            m.input_work(),
+            m.dissipated(),
+        )
+    };
+    // twist at the middles of the spans: the node nearest to each span's middle
+    let mid_twist = |sim: &Simulation| {
+        let m = sim.model_as::<Belt3d>().unwrap();
+        let n = m.n_nodes();
+        let p1: Vector3<f64> = Vector3::zeros();
+        let p2 = Vector3::new(0.082, 0.6, 0.082);
+        let c = 0.5 * (p1 + p2);
+        // the two nodes nearest to the plane through the middle of the centres, normal to
+        // the line of centres, one on each span
+        let d = (p2 - p1).normalize();
+        let mut idx: Vec<usize> = (0..n).collect();
+        idx.sort_by(|&a, &b| {
+            let f = |k: usize| (m.node_position(k) - c).dot(&d).abs();
+            f(a).total_cmp(&f(b))
+        });
+        let first = idx[0];
+        let second = *idx[1..]
+            .iter()
+            .find(|&&k| {
+                (k as isize - first as isize).rem_euclid(n as isize) > 3
+                    && (first as isize - k as isize).rem_euclid(n as isize) > 3
+            })
+            .unwrap();
+        [first, second].map(|k| {
+            let w = m.node_width_direction(k);
+            axes.map(|a| w.dot(&a).abs().clamp(0.0, 1.0).acos().to_degrees())
+        })
+    };
+    let at_mount = mid_twist(&sim);
+    let e0 = energy(&sim);
+    let mut angle = 0.0;
+    let (mut acc, mut count) = ([0.0; 4], 0.0);
+    let steps = (t_end / h).round() as usize;
+    for i in 0..steps {
+        let t = i as f64 * h;
+        let r = |t: f64| (t / ramp).min(1.0);
+        let w = 0.5 * omega * (r(t) + r(t + h));
+        sim.set_input(ia, angle);
+        sim.set_input(iw, w);
+        sim.set_input(it, -load * r(t + h));
+        sim.advance(t + h)
+            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
+        angle += w * h;
+        if t + h > t_end - window + 1e-12 {
+            let m = sim.model_as::<Belt3d>().unwrap();
+            let tn = m.span_tensions();
+            acc[0] += tn[0];
+            acc[1] += tn[1];
+            acc[2] += m.pulley_motion(1).1;
+            acc[3] += m.pulley_load(0).2;
+            count += 1.0;
+        }
+    }
+    let [t_a, t_b, omega2, torque1] = acc.map(|x| x / count);
+    let running = mid_twist(&sim);
+    let e1 = energy(&sim);
+    let (w_in, stored, diss) = (e1.1 - e0.1, e1.0 - e0.0, e1.2 - e0.2);
+    let balance = (w_in - stored - diss) / w_in;
+    let r1 = 0.08 + 0.002;
+    let torque_from_tensions = (t_a - t_b).abs() * r1;
+    let damping = 0.2;
+    println!(
+        "quarter twist: width direction at the span middles, angle to axis 1 / axis 2 [deg]: mounted {at_mount:.1?}, running {running:.1?}"
+    );
+    println!(
+        "span tensions {t_a:.2} N, {t_b:.2} N; |T1 - T2| R1 = {torque_from_tensions:.3} N m; belt torque on pulley 1 {torque1:.3} N m; load + c w2 = {:.3} N m; w2 = {omega2:.4} rad/s",
+        load + damping * omega2
+    );
+    println!(
+        "energy: input work {w_in:.3} J = stored {stored:.3} J + dissipated {diss:.3} J, defect {:.3} %",
+        100.0 * balance
+    );
+    for span in running {
+        for ang in span {
+            assert!((ang - 45.0).abs() < 10.0, "span twist {running:?}");
+        }
+    }
+    assert!(
+        (omega2 / omega - 1.0).abs() < 0.01,
+        "pulley 2 at {omega2} rad/s"
+    );
+    assert!(
+        (torque_from_tensions / torque1.abs() - 1.0).abs() < 0.03,
+        "tensions {t_a}, {t_b} vs torque {torque1}"
+    );
+    assert!(
+        (torque1.abs() / (load + damping * omega2) - 1.0).abs() < 0.03,
+        "torque {torque1} vs load"
+    );
+    assert!(balance.abs() < 0.02, "energy defect {balance}");
 }

@@ -79,7 +79,7 @@ macro_rules! body_kind {
                 $validation
             }
 
-            fn claims_legacy(&self, $t: &toml::Table) -> bool {
+            fn claims_legacy(&self, $t: &toml::Table) -> Option<$crate::kinds::LegacyClaim> {
                 $legacy
             }
 
@@ -214,6 +214,17 @@ pub fn names() -> String {
         .join(", ")
 }
 
+/// How a kind recognises a scene file without a `kind` key, weakest first: a claim by the
+/// kind's own characteristic tables outranks one by the element type alone (which several
+/// kinds' files share).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum LegacyClaim {
+    /// By `[element] type`.
+    ElementType,
+    /// By tables (and the shape of their keys) only this kind has.
+    Tables,
+}
+
 /// A body kind: reads its scenes.
 pub trait BodyKind: Sync {
     /// The kind's name: the scene key `kind = "..."`, its module and its README entry.
@@ -228,9 +239,10 @@ pub trait BodyKind: Sync {
     fn validation(&self) -> &'static str;
 
     /// For scene files without a `kind` key (written before the key existed): whether the
-    /// tables are this kind's by the old rule (element type, belt tables). At most one kind
-    /// answers yes for any file.
-    fn claims_legacy(&self, tables: &toml::Table) -> bool;
+    /// tables are this kind's by its old rule, stated from its own keys only (element type,
+    /// belt tables), and how strongly. The scene reader takes the one kind with the strongest
+    /// claim.
+    fn claims_legacy(&self, tables: &toml::Table) -> Option<LegacyClaim>;
 
     /// The top-level keys a scene of this kind may have (its tables, `kind` and the common
     /// `fmu`, `experiment`, `solver`), from its scene struct.
@@ -383,34 +395,4 @@ impl<I, O> KindIo<I, O> {
 /// Reads the string value of `[element] type`, if any (legacy kind detection).
 pub fn legacy_element_type(tables: &toml::Table) -> Option<&str> {
     tables.get("element")?.as_table()?.get("type")?.as_str()
-}
-
-/// Whether the legacy tables describe a planar belt drive (`[belt]` or `[[pulley]]` present,
-/// and not the tables of a 3D belt: see [`legacy_has_3d_belt`]).
-pub fn legacy_has_belt(tables: &toml::Table) -> bool {
-    (tables.contains_key("belt") || tables.contains_key("pulley")) && !legacy_has_3d_belt(tables)
-}
-
-/// Whether the tables are those of a 3D belt (kind `belt_3d`), which planar belt files never
-/// had: a `[belt]` with a `width`, or a `[[pulley]]` with a three-component `center` or a rim
-/// `width`.
-pub fn legacy_has_3d_belt(tables: &toml::Table) -> bool {
-    let belt_width = tables
-        .get("belt")
-        .and_then(|b| b.as_table())
-        .is_some_and(|b| b.contains_key("width"));
-    let pulley_3d = |p: &toml::Value| {
-        p.as_table().is_some_and(|p| {
-            p.contains_key("width")
-                || p.get("center")
-                    .and_then(|c| c.as_array())
-                    .is_some_and(|c| c.len() == 3)
-        })
-    };
-    let pulleys_3d = match tables.get("pulley") {
-        Some(toml::Value::Array(a)) => a.iter().any(pulley_3d),
-        Some(p) => pulley_3d(p),
-        None => false,
-    };
-    belt_width || pulleys_3d
 }

@@ -104,7 +104,7 @@ impl Loop {
                     "sum"
                 };
                 return Err(format!(
-                    "pulley{0}.radius, pulley{1}.radius (pulleys {0} and {1}): the centre distance {l:.6} m must exceed the {what} of the pitch radii {2:.6} m",
+                    "pulley{0}.center, pulley{1}.center, pulley{0}.radius, pulley{1}.radius (pulleys {0} and {1}): the centre distance {l:.6} m must exceed the {what} of the pitch radii (radius + belt.thickness/2) {2:.6} m",
                     i + 1,
                     j + 1,
                     (rho(i) - rho(j)).abs()
@@ -149,7 +149,7 @@ impl Loop {
                 .map(|i| format!("pulley{}", i + 1))
                 .collect();
             return Err(format!(
-                "the belt cannot follow the pulleys in this order (the belt direction turns by {total:.4} rad around the loop, not 2π): list the front-side pulleys ({}) counter-clockwise around the loop{}",
+                "the belt cannot follow the pulleys in this order (the belt direction turns by {total:.4} rad around the loop, not 2π): list the front-side pulleys ({}) counter-clockwise around the loop{} (pulley.center, radius, side)",
                 front.join(", "),
                 if back_list.is_empty() {
                     String::new()
@@ -170,7 +170,7 @@ impl Loop {
                 let (a, b) = (&spans[i], &spans[j]);
                 if segments_cross(a.start, a.end, b.start, b.end) {
                     return Err(format!(
-                        "the span from pulley{} to pulley{} crosses the span from pulley{} to pulley{}: reorder the pulleys or change the wrap side of one",
+                        "the span from pulley{} to pulley{} crosses the span from pulley{} to pulley{}: reorder the pulleys, move them (pulley.center, radius) or change the wrap side of one",
                         a.from + 1,
                         a.to + 1,
                         b.from + 1,

@@ -5,7 +5,9 @@
 //!
 //! Scene files without a `kind` key (written before it existed) keep working: the kind is
 //! then the one whose old rule matches (`[belt]` or `[[pulley]]`: `belt_drive`; element type
-//! `"ancf_shear_2d"` or `"ancf_cable_2d"` without belt tables: `beam_2d`; `"corotational_3d"`: `beam_3d`).
+//! `"ancf_shear_2d"` or `"ancf_cable_2d"`: `beam_2d`; `"corotational_3d"`: `beam_3d`; a `[[pulley]]`
+//! centre with three components: `belt_3d`; the tables outrank the element type; each kind
+//! states its own rule in [`kinds::BodyKind::claims_legacy`]).
 
 pub mod params;
 pub mod tables;
@@ -56,10 +58,12 @@ fn select_kind(tables: &toml::Table) -> Result<&'static dyn BodyKind, String> {
             other.type_str()
         )),
         None => {
+            let strength = |k: &&dyn BodyKind| k.claims_legacy(tables);
+            let best = kinds::REGISTRY.iter().filter_map(strength).max();
             let claims: Vec<_> = kinds::REGISTRY
                 .iter()
                 .copied()
-                .filter(|k| k.claims_legacy(tables))
+                .filter(|k| best.is_some() && strength(k) == best)
                 .collect();
             match claims.as_slice() {
                 [one] => Ok(*one),

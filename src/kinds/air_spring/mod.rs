@@ -46,7 +46,7 @@ body_kind! {
         name: "air_spring",
         summary: "air spring: cord-rubber bellows enclosing gas, rolling on a piston",
         validation: include_str!("validation.txt"),
-        legacy: |_t| false,
+        legacy: |_t| None,
         presets: |s| scene::presets(s),
         smoke_test: |s| scene::smoke_test(s),
         knobs: |s| scene::knobs(s),

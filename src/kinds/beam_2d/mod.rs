@@ -6,7 +6,7 @@
 pub mod model;
 pub mod scene;
 
-use super::{legacy_element_type, legacy_has_belt};
+use super::{LegacyClaim, legacy_element_type};
 use crate::scene::tables::{
     EnergyOutputs, ExperimentSection, FmuSection, Gravity2d, InitialSection, MaterialSection,
     MeshSection, MotionSpec, ProbeSpec, SolverSection, SupportSpec,
@@ -23,7 +23,7 @@ body_kind! {
         summary: "straight planar beam of seed-000 shear-deformable ANCF elements or ANCF cable elements",
         validation: include_str!("validation.txt"),
         legacy: |t| matches!(legacy_element_type(t), Some("ancf_shear_2d" | "ancf_cable_2d"))
-            && !legacy_has_belt(t),
+            .then_some(LegacyClaim::ElementType),
         smoke_test: |s| scene::smoke_test(s),
         knobs: |s| scene::knobs(s),
     }

@@ -6,7 +6,7 @@
 pub mod model;
 pub mod scene;
 
-use super::{legacy_element_type, legacy_has_belt};
+use super::{LegacyClaim, legacy_element_type};
 use crate::scene::tables::{
     EnergyOutputs, ExperimentSection, FmuSection, Gravity3d, MeshSection, ProbeSpec, SolverSection,
     SupportSpec,
@@ -22,7 +22,8 @@ body_kind! {
         name: "beam_3d",
         summary: "3D beam of seed-003 co-rotational elements along straight and circular pieces",
         validation: include_str!("validation.txt"),
-        legacy: |t| legacy_element_type(t) == Some("corotational_3d") && !legacy_has_belt(t),
+        legacy: |t| (legacy_element_type(t) == Some("corotational_3d"))
+            .then_some(LegacyClaim::ElementType),
         smoke_test: |s| scene::smoke_test(s),
         knobs: |s| scene::knobs(s),
     }

@@ -4,6 +4,7 @@
 //! in [`model`].
 
 pub mod model;
+pub mod path;
 pub mod scene;
 
 use crate::scene::tables::{ExperimentSection, FmuSection, Gravity3d, SolverSection};
@@ -18,8 +19,31 @@ body_kind! {
         name: "belt_3d",
         summary: "closed belt of co-rotational 3D beam elements over pulleys in space (tilt, offset, crown, flanges) with friction contact",
         validation: include_str!("validation.txt"),
-        legacy: |t| super::legacy_has_3d_belt(t),
+        legacy: |t| claims_legacy(t).then_some(super::LegacyClaim::Tables),
     }
+}
+
+/// The rule for files without a `kind` key, from the keys only a 3D belt has: a `[belt]` with
+/// a `width`, or a `[[pulley]]` with a three-component `center` or a rim `width`.
+fn claims_legacy(t: &toml::Table) -> bool {
+    let belt_width = t
+        .get("belt")
+        .and_then(|b| b.as_table())
+        .is_some_and(|b| b.contains_key("width"));
+    let pulley_3d = |p: &toml::Value| {
+        p.as_table().is_some_and(|p| {
+            p.contains_key("width")
+                || p.get("center")
+                    .and_then(|c| c.as_array())
+                    .is_some_and(|c| c.len() == 3)
+        })
+    };
+    let pulleys_3d = match t.get("pulley") {
+        Some(toml::Value::Array(a)) => a.iter().any(pulley_3d),
+        Some(p) => pulley_3d(p),
+        None => false,
+    };
+    belt_width || pulleys_3d
 }
 
 /// A `belt_3d` scene file (`kind = "belt_3d"`; without it, a `[belt]` with a `width` or a
@@ -40,7 +64,9 @@ pub struct Belt3dScene {
     /// Belt–pulley contact.
     pub contact: Contact3d,
     /// `[[pulley]]`: the pulleys in the order the belt wraps them, counter-clockwise about
-    /// +z in the plane z = 0 in which the belt is mounted; the first is `pulley1`.
+    /// each pulley's axis; the first is `pulley1`. With all axes along z the belt is mounted
+    /// in the plane z = 0; with crossed axes along the path in space of
+    /// [`path::SpacePath`] (quarter-twist drive).
     #[serde(default)]
     pub pulley: Vec<Pulley3dSpec>,
     /// Gravity (omit for none).

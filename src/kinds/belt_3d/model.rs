@@ -23,6 +23,7 @@
 //! element length.
 
 use super::Belt3dScene;
+use super::path::{SpaceCircle, SpacePath};
 use super::scene::{Input, Output, PulleyInput};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet};
 use crate::contact::{ContactBook, ContactLaw, ContactPointSet, Pulley3d};
@@ -104,6 +105,10 @@ pub struct Belt3dSpec {
     /// Bowing term in the elements' axial strain ([`Corot3d::with_bowing`]): the chord of an
     /// element wrapped on a pulley is short of its arc by `Δφ²/24`; the term restores it.
     pub bowing: bool,
+    /// Mount the belt along the path in space of [`SpacePath`] (pulleys on crossed axes, the
+    /// quarter-twist drive: arcs in each pulley's plane, spans arriving in the next pulley's
+    /// plane, twist spread over the spans) instead of in the plane z = 0.
+    pub space_mount: bool,
 }
 
 /// The 3D belt-drive model.
@@ -166,19 +171,6 @@ impl Belt3d {
         if n < 3 {
             return Err("the belt needs at least 3 elements".into());
         }
-        let lp = Loop::new(
-            &spec
-                .pulleys
-                .iter()
-                .map(|p| PitchCircle {
-                    center: Vector2::new(p.center.x, p.center.y),
-                    radius: p.radius + half_t,
-                })
-                .collect::<Vec<_>>(),
-        )
-        .map_err(|e| {
-            format!("pulley.center, pulley.radius (the pulleys' centres and radii): {e}")
-        })?;
         let obstacles: Vec<Pulley3d> = spec
             .pulleys
             .iter()
@@ -198,9 +190,42 @@ impl Belt3d {
                 )
             })
             .collect();
+        let mount = if spec.space_mount {
+            Mount::Space(SpacePath::new(
+                &obstacles
+                    .iter()
+                    .map(|o| SpaceCircle {
+                        center: o.center,
+                        axis: o.axis,
+                        radius: o.radius,
+                    })
+                    .collect::<Vec<_>>(),
+                &obstacles
+                    .iter()
+                    .map(|o| 0.25 * (o.half_width - o.belt_half_width).max(0.0))
+                    .collect::<Vec<_>>(),
+            )?)
+        } else {
+            Mount::Plane(
+                Loop::new(
+                    &spec
+                        .pulleys
+                        .iter()
+                        .map(|p| PitchCircle {
+                            center: Vector2::new(p.center.x, p.center.y),
+                            radius: p.radius + half_t,
+                        })
+                        .collect::<Vec<_>>(),
+                )
+                .map_err(|e| {
+                    format!("pulley.center, pulley.radius (the pulleys' centres and radii): {e}")
+                })?,
+            )
+        };
+        let path_length = mount.length();
         let np = obstacles.len();
         let stretch = 1.0 + spec.pretension / spec.section.ea;
-        let mounted = lp.length / n as f64;
+        let mounted = path_length / n as f64;
         let l0 = mounted / stretch;
         let n_full = n * NODE_DOFS + np;
         let pulley_dof: Vec<usize> = (0..np).map(|k| n * NODE_DOFS + k).collect();
@@ -254,23 +279,22 @@ impl Belt3d {
             MassModel::Lumped,
         )
         .with_bowing(spec.bowing);
-        let span_mid = (0..lp.spans.len())
-            .map(|i| {
-                let m = lp.at(lp.span_middle(i)).r;
-                Vector3::new(m.x, m.y, 0.0)
-            })
-            .collect();
+        let span_mid = mount.span_middles();
         let mut frames = NodeFrames::new((0..n).map(|k| k * NODE_DOFS + 3).collect());
-        let width_dir = Vector3::z();
         let mut q0 = vec![0.0; n_full];
         for k in 0..n {
-            let p = lp.at(lp.length * k as f64 / n as f64);
-            let mut r = Vector3::new(p.r.x, p.r.y, 0.0);
-            // on an arc of the planar layout: put onto the pulley's own (tilted, offset,
-            // crowned) rim, the predicted penetration T/(R k_n) inside it
-            for (c, p) in obstacles.iter().zip(&spec.pulleys) {
+            let (mut r, t, width_dir, on) = mount.at(path_length * k as f64 / n as f64);
+            // on an arc of the layout: put onto the pulley's own (tilted, offset, crowned)
+            // rim, the predicted penetration T/(R k_n) inside it
+            for (i, (c, p)) in obstacles.iter().zip(&spec.pulleys).enumerate() {
                 let planar = Vector2::new(r.x - p.center.x, r.y - p.center.y).norm();
-                if (planar - c.radius).abs() < 1e-9 * c.radius.max(1.0) {
+                let on_arc = match on {
+                    Some(j) => j == i,
+                    None => {
+                        !spec.space_mount && (planar - c.radius).abs() < 1e-9 * c.radius.max(1.0)
+                    }
+                };
+                if on_arc {
                     let d = r - c.center;
                     let zeta = c.axis.dot(&d);
                     let radial = d - zeta * c.axis;
@@ -280,7 +304,6 @@ impl Belt3d {
                 }
             }
             q0[k * NODE_DOFS..k * NODE_DOFS + 3].copy_from_slice(r.as_slice());
-            let t = Vector3::new(p.t.x, p.t.y, 0.0);
             let frame = Matrix3::from_columns(&[t, width_dir.cross(&t), width_dir]);
             frames.set_reference(
                 k,
@@ -296,7 +319,7 @@ impl Belt3d {
             .iter()
             .map(|&i| {
                 if i < n * NODE_DOFS && i % NODE_DOFS < 3 {
-                    lp.length
+                    path_length
                 } else {
                     1.0
                 }
@@ -460,6 +483,12 @@ impl Belt3d {
     /// Position of node `k` in the committed state [m].
     pub fn node_position(&self, k: usize) -> Vector3<f64> {
         Vector3::from_column_slice(&self.st.q[k * NODE_DOFS..k * NODE_DOFS + 3])
+    }
+
+    /// Width direction of the belt at node `k` in the committed state (unit; the third
+    /// column of the node's frame `[t, a × t, a]`).
+    pub fn node_width_direction(&self, k: usize) -> Vector3<f64> {
+        (self.st.frames.rotation(k, &self.st.q) * Vector3::z()).normalize()
     }
 
     /// Angle [rad] and angular velocity [rad/s] of pulley `k` in the committed state.
@@ -749,13 +778,20 @@ impl Belt3d {
             pretension,
             gravity: Vector3::new(g(GRAVITY_X), g(GRAVITY_Y), g(GRAVITY_Z)),
             bowing: p.boolean(BELT_BOWING),
+            space_mount: scene.pulley.iter().any(|s| {
+                Vector3::from(s.axis)
+                    .normalize()
+                    .cross(&Vector3::z())
+                    .norm()
+                    > 1e-9
+            }),
         })?;
         m.roles = io(scene);
         m.n_points = belt_points(scene);
         let cfg = SolverConfig::from_params(p);
         m.preload_iterations = m.preload(Some(pretension), &cfg.newton).map_err(|e| {
             format!(
-                "{e} (belt.EA = {ea} N, belt.EI, belt.EI_lateral, belt.GJ, belt.GA, belt.mass_per_length, belt.width, belt.thickness, belt.pretension = {pretension} N, belt.n_elements, contact.mu, contact.stiffness, contact.damping, contact.friction_stiffness, the pulleys' center, radius, width, crown, flange, tilt, skew and offset_z; solver.newton_tolerance, solver.max_iterations)"
+                "{e} (belt.EA = {ea} N, belt.EI, belt.EI_lateral, belt.GJ, belt.GA, belt.mass_per_length, belt.width, belt.thickness, belt.pretension = {pretension} N, belt.n_elements, contact.mu, contact.stiffness, contact.damping, contact.friction_stiffness, the pulleys' center, axis, radius, width, crown, flange, tilt, skew and offset_z; solver.newton_tolerance, solver.max_iterations)"
             )
         })?;
         Ok(m)
@@ -1049,6 +1085,53 @@ impl MechanicalSystem for Belt3d {
     }
 }
 
+/// The mounted path: planar (pulley axes along z) or in space.
+enum Mount {
+    Plane(Loop),
+    Space(SpacePath),
+}
+
+impl Mount {
+    fn length(&self) -> f64 {
+        match self {
+            Mount::Plane(lp) => lp.length,
+            Mount::Space(sp) => sp.length,
+        }
+    }
+
+    fn span_middles(&self) -> Vec<Vector3<f64>> {
+        match self {
+            Mount::Plane(lp) => (0..lp.spans.len())
+                .map(|i| {
+                    let m = lp.at(lp.span_middle(i)).r;
+                    Vector3::new(m.x, m.y, 0.0)
+                })
+                .collect(),
+            Mount::Space(sp) => sp.span_middles(),
+        }
+    }
+
+    /// Position, tangent, width direction and (in space) the pulley whose arc the point at
+    /// arc length `s` lies on.
+    fn at(&self, s: f64) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>, Option<usize>) {
+        match self {
+            Mount::Plane(lp) => {
+                let p = lp.at(s);
+                (
+                    Vector3::new(p.r.x, p.r.y, 0.0),
+                    Vector3::new(p.t.x, p.t.y, 0.0),
+                    Vector3::z(),
+                    None,
+                )
+            }
+            Mount::Space(sp) => {
+                let p = sp.at(s);
+                (p.r, p.t, p.w, p.pulley)
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1123,6 +1206,7 @@ mod tests {
             pretension: 200.0,
             gravity: Vector3::zeros(),
             bowing: true,
+            space_mount: false,
         })
         .unwrap()
     }

@@ -158,9 +158,9 @@ pub fn check(s: &Belt3dScene) -> Result<(), Vec<String>> {
             errs.push(format!("{key}.center, axis: must be finite numbers"));
         }
         let n = norm3(&p.axis);
-        if n.is_nan() || n <= 0.0 || (p.axis[2] / n).abs() < 0.5 {
+        if n.is_nan() || n <= 0.0 {
             errs.push(format!(
-                "{key}.axis: the belt is mounted in the plane z = 0; the nominal axis must be within 60 degrees of z (tilt it with `tilt`)"
+                "{key}.axis: must be a non-zero direction (all along z: the belt is mounted in the plane z = 0; crossed axes: along the path in space of the quarter-twist drive)"
             ));
         }
         match (p.mode, p.inertia) {
@@ -237,21 +237,21 @@ pub fn params(s: &Belt3dScene) -> Result<Vec<ParamDef>, String> {
             BELT_EI_LATERAL,
             real(ei_lat),
             Some(Unit::NM2),
-            "Bending stiffness of the belt in its own plane (about its thickness axis)",
+            "Bending stiffness of the belt in its own plane (about its thickness axis; default belt.EA width^2/12 from belt.EA and belt.width)",
             Check::Positive,
         ),
         ParamDef::new(
             BELT_GJ,
             real(gj),
             Some(Unit::NM2),
-            "Torsional stiffness of the belt",
+            "Torsional stiffness of the belt (default G width thickness^3/3, G = E/2.6, E = belt.EA/(width thickness))",
             Check::Positive,
         ),
         ParamDef::new(
             BELT_GA,
             real(ga),
             Some(Unit::N),
-            "Shear stiffness of the belt (both directions, shear coefficient included)",
+            "Shear stiffness of the belt (both directions, shear coefficient included; default 5/6 G width thickness, G = belt.EA/(2.6 width thickness))",
             Check::Positive,
         ),
         ParamDef::new(

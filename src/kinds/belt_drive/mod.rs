@@ -12,7 +12,6 @@ mod pulleys;
 pub mod scene;
 mod tensioner;
 
-use super::legacy_has_belt;
 use crate::scene::tables::{Choice, ExperimentSection, FmuSection, Gravity2d, SolverSection};
 use model::BeltDrive;
 use serde::Deserialize;
@@ -25,13 +24,31 @@ body_kind! {
         name: "belt_drive",
         summary: "closed planar belt over driven and free pulleys with friction contact",
         validation: include_str!("validation.txt"),
-        legacy: |t| legacy_has_belt(t),
+        legacy: |t| claims_legacy(t).then_some(super::LegacyClaim::Tables),
         presets: |s| scene::presets(s),
         smoke_test: |s| scene::smoke_test(s),
         initial_state: Some("the belt mounted on the pulleys with its pre-tension, after the static pre-load"),
         build_to_restore: |s, p| Ok(Box::new(BeltDrive::build_to_restore(s, p)?)),
         knobs: |s| scene::knobs(s),
     }
+}
+
+/// The old rule for files without a `kind` key: a `[belt]` or `[[pulley]]` table whose
+/// pulleys lie in the drive's plane (a planar pulley's `center` is (x, y): a centre with a
+/// third component is not a planar drive's).
+fn claims_legacy(t: &toml::Table) -> bool {
+    let in_plane = |p: &toml::Value| {
+        p.as_table()
+            .and_then(|p| p.get("center"))
+            .and_then(|c| c.as_array())
+            .is_none_or(|c| c.len() != 3)
+    };
+    let planar = match t.get("pulley") {
+        Some(toml::Value::Array(a)) => a.iter().all(in_plane),
+        Some(p) => in_plane(p),
+        None => true,
+    };
+    (t.contains_key("belt") || t.contains_key("pulley")) && planar
 }
 
 /// A `belt_drive` scene file.

@@ -81,8 +81,10 @@ impl BeltDrive {
                 .map_err(|e| {
                     let s = &self.spec.section;
                     format!(
-                        "static pre-load of the belt (belt.EA = {} N, belt.EI = {} N.m2, belt.mass_per_length = {} kg/m, belt.damping_axial = {} N.s, belt.damping_bending = {} N.m2.s, belt.pretension = {pretension} N, belt.thickness = {} m, contact.mu = {}, contact.stiffness = {} N/m2, with the pulleys' radius and center; solver.newton_tolerance = {}, solver.max_iterations = {}): {e}",
-                        s.ea, s.ei, s.mass_per_length, s.damping_axial, s.damping_bending, self.spec.thickness, self.spec.contact.mu, self.spec.contact.k_n, settings.tolerance, settings.max_iterations
+                        "static pre-load of the belt (belt.EA = {} N, belt.EI = {} N.m2, belt.mass_per_length = {} kg/m, belt.damping_axial = {} N.s, belt.damping_bending = {} N.m2.s, belt.pretension = {pretension} N, belt.thickness = {} m, contact.mu = {}, contact.stiffness = {} N/m2, with the pulleys' radius, center and side{}; solver.newton_tolerance = {}, solver.max_iterations = {}): {e}",
+                        s.ea, s.ei, s.mass_per_length, s.damping_axial, s.damping_bending, self.spec.thickness, self.spec.contact.mu, self.spec.contact.k_n,
+                        if self.spec.tensioner.is_some() { "; tensioner.pulley, pivot, stiffness, preload, damping, inertia" } else { "" },
+                        settings.tolerance, settings.max_iterations
                     )
                 })?;
             self.preload.solves += 1;

@@ -91,7 +91,8 @@ pub(super) fn design(def: &TensionerDef, lp: &Loop) -> Result<Design, String> {
     let m = arm.x * f.y - arm.y * f.x;
     if m.abs() <= 1e-6 * l * f.norm().max(1e-12) {
         return Err(format!(
-            "tensioner.pivot: the arm of pulley{} points along the belt's force on the idler, the spring cannot tension the belt",
+            "tensioner.pivot (with pulley{}.center and the pulleys' center, radius and side): the arm of pulley{} points along the belt's force on the idler, the spring cannot tension the belt",
+            j + 1,
             j + 1
         ));
     }

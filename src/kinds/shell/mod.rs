@@ -23,7 +23,7 @@ body_kind! {
         name: "shell",
         summary: "shell of seed-004 trapezoidal elements: plates and surfaces of revolution",
         validation: include_str!("validation.txt"),
-        legacy: |_t| false,
+        legacy: |_t| None,
     }
 }
 
