@@ -96,7 +96,6 @@ impl Drive {
                     radius: self.radii[0],
                     side: PulleySide::Front,
                     kind: PulleyKind::Driven,
-                    side: PulleySide::Front,
                 },
                 PulleyDef {
                     center: Vector2::new(self.distance, 0.0),
@@ -106,7 +105,6 @@ impl Drive {
                         inertia: 0.01,
                         damping: 0.2,
                     },
-                    side: PulleySide::Front,
                 },
             ],
             contact: self.contact(),
@@ -120,7 +118,6 @@ impl Drive {
             n_points: 0,
             track_energy: false,
             statics: (newton(), SolverKind::Auto, 1),
-            tensioner: None,
         })
         .unwrap()
     }
