@@ -387,6 +387,32 @@ fn restore_is_bit_exact_for_the_belt_drive() {
     assert_eq!(outputs(&mut a), first);
 }
 
+/// Outputs read straight after a restore, before any step, are those of the saved state: for
+/// the drives whose outputs read committed contact loads (the 3D belt's pulley forces, moments
+/// and flange force; the serpentine drive's tensioner and span tensions).
+#[test]
+fn outputs_straight_after_restore_are_the_saved_ones() {
+    for (scene, mesh) in [("belt_drive_3d", 48), ("serpentine", 120)] {
+        let (mut a, log) = instance(scene);
+        set(&mut a, "belt.n_elements", Value::Integer(mesh));
+        assert_eq!(a.setup_experiment(None, 0.0, None), Status::Ok);
+        assert_eq!(a.enter_initialization_mode(), Status::Ok);
+        let s = a.exit_initialization_mode();
+        assert_eq!(s, Status::Ok, "{scene}: {:?}", log.borrow());
+        run(&mut a, 0.0, 0.005, 1e-3);
+        let state = a.save_fmu_state(Call::GetFmuState).unwrap();
+        let saved = outputs(&mut a);
+        run(&mut a, 0.005, 0.01, 1e-3);
+        assert_ne!(
+            outputs(&mut a),
+            saved,
+            "{scene}: the run should change the outputs"
+        );
+        assert_eq!(a.restore_fmu_state(&state), Status::Ok);
+        assert_eq!(outputs(&mut a), saved, "{scene}");
+    }
+}
+
 /// A master whose pulley starts at another angle: before the first communication step the
 /// driven pulley is turned there under the belt without slip (no pre-twist, the same torques
 /// as at angle 0); a turn during the run does load the belt.

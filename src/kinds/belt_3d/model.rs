@@ -979,12 +979,19 @@ impl Model for Belt3d {
         self.st.free_state(q, v);
     }
 
-    /// Committed state and node orientations, reference length, contact histories, input
-    /// signals and energy book.
+    /// Committed state and node orientations, reference length, contact histories, loads and
+    /// book, input signals and energy book.
     fn save(&self, w: &mut StateWriter) -> Result<(), String> {
         self.st.save(w);
         w.f64(self.element_length());
         self.contact.save(w);
+        // the pulley outputs and the contact energy read the committed loads and book
+        self.contact.save_loads(w);
+        let b = &self.book;
+        w.u64(b.slipping as u64);
+        for x in [b.normal_energy, b.dissipation, b.friction_work] {
+            w.f64(x);
+        }
         w.u64(self.signals.len() as u64);
         for sg in &self.signals {
             sg.angle.save(w);
@@ -1007,6 +1014,13 @@ impl Model for Belt3d {
         }
         self.set_reference_length(l);
         self.contact.restore(r)?;
+        self.contact.restore_loads(r)?;
+        self.book = ContactBook {
+            slipping: r.u64().map_err(e)? as usize,
+            normal_energy: r.f64().map_err(e)?,
+            dissipation: r.f64().map_err(e)?,
+            friction_work: r.f64().map_err(e)?,
+        };
         if r.u64().map_err(e)? as usize != self.signals.len() {
             return Err("pulleys of another drive".into());
         }
