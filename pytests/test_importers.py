@@ -29,6 +29,17 @@ CASES = {
     "belt_drive": ({"pulley2.torque_in": -4.0, "belt.n_elements": 40, "solver.newton_tolerance": 1e-10}, "pulley1.torque"),
     # the master starts pulley 2 at another angle: the FMU mounts the belt there (no pre-twist)
     "belt_drive_cosim": ({"pulley2.angle": 0.7, "belt.n_elements": 40, "solver.newton_tolerance": 1e-10}, "pulley1.force_x"),
+    # the serpentine drive with its tensioner, crank started at 20 rad/s (the static solve is the
+    # belt at rest): the arm's torque
+    "serpentine": (
+        {"belt.n_elements": 60, "pulley1.omega": 20.0, "solver.newton_tolerance": 1e-10}, "tensioner.torque"
+    ),
+    # the 3D belt (co-rotational), driver at 10 rad/s against a load: the driver's torque
+    "belt_drive_3d": (
+        {"belt.n_elements": 36, "pulley1.omega": 10.0, "pulley2.torque_in": -2.0,
+         "solver.newton_tolerance": 1e-10},
+        "pulley1.torque",
+    ),
     # the plate starts 1 cm below the design height and rises at 0.1 m/s (top.z extrapolated with
     # top.vz): bag pressure, and with the reservoir the pressure behind pipe and orifice. The
     # velocity jump at t = 0 rings the sleeve's membrane modes; at the default rho_inf = 0.9 the

@@ -565,17 +565,18 @@ impl Belt3d {
     /// span tensions, energy book.
     pub fn accept(&mut self, state: &mut DynState) {
         let t = state.t;
-        let driven: Vec<(usize, (f64, f64, f64))> = self
-            .spec
-            .pulleys
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| matches!(p.motion, Pulley3dMotion::Driven { .. }))
-            .map(|(k, _)| (self.pulley_dof[k], self.driven(k, t)))
-            .collect();
+        // (a fixed array: no allocation per accepted step)
+        let mut driven = [(0usize, (0.0, 0.0, 0.0)); super::scene::MAX_PULLEYS];
+        let mut n_driven = 0;
+        for (k, p) in self.spec.pulleys.iter().enumerate() {
+            if matches!(p.motion, Pulley3dMotion::Driven { .. }) {
+                driven[n_driven] = (self.pulley_dof[k], self.driven(k, t));
+                n_driven += 1;
+            }
+        }
         self.st.accept(state, |q, v, a| {
             let (mut q, mut v, mut a) = (q, v, a);
-            for &(d, (th, om, al)) in &driven {
+            for &(d, (th, om, al)) in &driven[..n_driven] {
                 if let Some(q) = q.as_deref_mut() {
                     q[d] = th;
                 }

@@ -73,12 +73,22 @@ impl BeltDrive {
         prescribed(&io.angle_in, &io.omega_in, t)
     }
 
-    /// Sets the driven pulleys' angles and speeds into full vectors.
+    /// Sets the driven pulleys' angles and speeds into full vectors. In a static solve
+    /// ([`MechanicalSystem::hold_for_statics`]) the driven pulleys stand at their angles with
+    /// zero speed and acceleration: statics is the belt at rest, and a master that starts a
+    /// driven pulley at speed (`pulleyN.omega` start value ≠ 0) must not make the friction of
+    /// the static problem slide (it did: "static equilibrium not found" at
+    /// `fmi2ExitInitializationMode`); the dynamics then start from rest with the pulley at its
+    /// speed.
+    ///
+    /// [`MechanicalSystem::hold_for_statics`]: crate::model::MechanicalSystem::hold_for_statics
     pub(super) fn prescribe(&self, t: f64, q: &mut [f64], v: &mut [f64], a: Option<&mut [f64]>) {
         let mut a = a;
+        let at_rest = self.held_angles.is_some();
         for (k, p) in self.spec.pulleys.iter().enumerate() {
             if p.kind == PulleyKind::Driven {
                 let (th, om, al) = self.driven(k, t);
+                let (om, al) = if at_rest { (0.0, 0.0) } else { (om, al) };
                 q[self.pulley_dof[k]] = th;
                 v[self.pulley_dof[k]] = om;
                 if let Some(a) = a.as_deref_mut() {
