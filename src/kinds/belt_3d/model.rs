@@ -454,8 +454,29 @@ impl Belt3d {
         let mut iterations = 0;
         for round in 0..5 {
             self.free_state(&mut qf, &mut vf);
-            let st = crate::solver::statics::solve(self, &mut ws, &mut qf, settings, 8)
-                .map_err(|e| format!("static pre-load of the 3D belt: {e}"))?;
+            let st = match crate::solver::statics::solve(self, &mut ws, &mut qf, settings, 8) {
+                Ok(st) => st,
+                Err(e) => {
+                    // a mount with kinks (the quarter-twist path leaves each pulley 15.6° out
+                    // of its plane) is too far from equilibrium for Newton: relax it in pseudo
+                    // time first, then finish with the load path from there
+                    self.free_state(&mut qf, &mut vf);
+                    let relaxed =
+                        crate::solver::statics::relax(self, &mut ws, &mut qf, settings, 400)
+                            .map_err(|r| {
+                                format!("static pre-load of the 3D belt: {e}; relaxation: {r}")
+                            })?;
+                    iterations += relaxed.iterations;
+                    crate::solver::statics::solve(self, &mut ws, &mut qf, settings, 1).map_err(
+                        |e2| {
+                            format!(
+                                "static pre-load of the 3D belt: {e}; after a pseudo-transient relaxation ({} iterations, residual down to {:.1e} of its start): {e2}",
+                                relaxed.iterations, relaxed.reduction
+                            )
+                        },
+                    )?
+                }
+            };
             iterations += st.newton.iterations;
             let mut state = DynState::zeros(n, self.st.t);
             state.q.copy_from_slice(&qf);
@@ -792,7 +813,7 @@ impl Belt3d {
         let cfg = SolverConfig::from_params(p);
         m.preload_iterations = m.preload(Some(pretension), &cfg.newton).map_err(|e| {
             format!(
-                "{e} (belt.EA = {ea} N, belt.EI, belt.EI_lateral, belt.GJ, belt.GA, belt.mass_per_length, belt.width, belt.thickness, belt.pretension = {pretension} N, belt.n_elements, contact.mu, contact.stiffness, contact.damping, contact.friction_stiffness, the pulleys' center, axis, radius, width, crown, flange, tilt, skew and offset_z; solver.newton_tolerance, solver.max_iterations)"
+                "{e} (belt.EA = {ea} N, belt.EI, belt.EI_lateral, belt.GJ, belt.GA, belt.mass_per_length, belt.width, belt.thickness, belt.pretension = {pretension} N, belt.n_elements, contact.mu, contact.stiffness, contact.damping, contact.friction_stiffness, the pulleys' center, axis, radius, width, crown, flange, tilt, skew, offset_z, inertia and damping (the pseudo-transient relaxation of a mount far from equilibrium uses the masses); solver.newton_tolerance, solver.max_iterations)"
             )
         })?;
         Ok(m)

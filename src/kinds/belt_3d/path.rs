@@ -9,7 +9,7 @@
 //! minus its radius `g(φ)` and axial offset of the touching point `u(φ)` both zero. That is
 //! two conditions on one angle, so the pulleys must be placed for it (for perpendicular axes:
 //! the plane of each pulley tangent to the other's pitch cylinder, see
-//! `tests/data/conveyor_twist.toml`); `φ` minimizes `|g| + |u|` (scan, then golden section), a
+//! `scenes/conveyor_twist.toml`); `φ` minimizes `|g| + |u|` (scan, then golden section), a
 //! small remaining miss is accepted (the departure point is put onto the cylinder, an axial
 //! offset taken up by a helical arc on `i`), a larger one is an error.
 //!
@@ -179,7 +179,7 @@ impl SpacePath {
             })?;
             if miss > max_offset[i] {
                 return Err(format!(
-                    "the span from pulley{} to pulley{} misses pulley{}'s pitch circle by {:.2} mm (at most {:.2} mm): place the pulleys (pulley.center, axis, radius, tilt, skew, offset_z; belt.thickness) so that a line arriving tangentially in pulley{}'s plane touches pulley{}'s pitch circle (quarter twist: pulley 2's plane tangent to pulley 1's pitch cylinder and its pitch circle touching pulley 1's plane)",
+                    "the span from pulley{} to pulley{} misses pulley{}'s pitch circle by {:.2} mm (at most {:.2} mm, a quarter of the rim's free play (pulley.width − belt.width)/2): place the pulleys (pulley.center, axis, radius, width, tilt, skew, offset_z; belt.thickness, width) so that a line arriving tangentially in pulley{}'s plane touches pulley{}'s pitch circle (quarter twist: pulley 2's plane tangent to pulley 1's pitch cylinder and its pitch circle touching pulley 1's plane)",
                     i + 1,
                     j + 1,
                     i + 1,
