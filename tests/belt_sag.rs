@@ -366,9 +366,10 @@ fn sagging_span_is_an_elastic_catenary() {
 /// pre-load reaches it within its 0.1 % tolerance, and on a horizontal span that force is the
 /// catenary's horizontal tension H at the lowest point (0.05 %). The reference-length
 /// correction knows that the sag takes up length (`sag_coeff`, `preload.rs`): at most 3
-/// static solves on the base drive, the stiffer belt (EA 1e5 N) and the heavier one (2 kg/m)
-/// (with the elastic correction alone: 3, 5 and 5 solves, the last two stopped by the round
-/// limit). Without gravity the same drive's spans are straight.
+/// static solves on the base drive, the stiffer belt (EA 1e5 N), the heavier one (2 kg/m) and
+/// the slacker one (100 N) (the elastic correction alone took 5 solves, the round limit, on
+/// the base drive; a secant on the mean tension 3, 5 and 5 on the first three). Without
+/// gravity the same drive's spans are straight.
 #[test]
 fn pretension_is_the_mean_mid_span_tension() {
     for d in [
