@@ -137,7 +137,9 @@ pub struct BeltSection {
     pub mass_per_length: f64,
     /// Thickness [m]: the centre line runs at pulley radius + thickness/2.
     pub thickness: f64,
-    /// Span tension at rest [N].
+    /// Span tension at rest [N]: the mean over the spans of the axial force at the span
+    /// middles (with gravity, a horizontal span's mid-span force is its catenary's horizontal
+    /// tension; the tension rises towards the span's ends by the weight times the height).
     pub pretension: f64,
     /// Number of belt elements.
     pub n_elements: i64,

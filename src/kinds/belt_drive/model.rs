@@ -291,6 +291,12 @@ pub struct BeltDrive {
     /// Whether the static pre-load was frictionless (drives with a tensioner; see
     /// `preload.rs`, which falls back to the pre-load with friction where that fails).
     pub(super) frictionless_preload: bool,
+    /// The spans' sag length coefficient `Σ (m' g⊥)² a³ / 24` [N² m] (`m'` the mass per
+    /// length, `g⊥` the gravity across the span of chord length `a`): a span of tension `T`
+    /// hangs as a catenary whose length exceeds its chord by `(m' g⊥)² a³ / (24 T²)` (the
+    /// parabola's `8 d²/(3 a)`, `d = m' g⊥ a²/(8 T)`; Irvine, Cable Structures, 1981, ch. 1);
+    /// used by the pre-load's reference-length correction (`preload.rs`). 0 without gravity.
+    pub(super) sag_coeff: f64,
     // work buffers
     pub(super) qw: Vec<f64>,
     pub(super) vw: Vec<f64>,
@@ -506,6 +512,17 @@ impl BeltDrive {
             })
             .collect();
         let pitch = circles.iter().map(|c| c.radius).collect();
+        let sag_coeff = lp.as_ref().map_or(0.0, |lp| {
+            lp.spans
+                .iter()
+                .map(|sp| {
+                    let c = sp.end - sp.start;
+                    let a = c.norm();
+                    let across = s.mass_per_length * spec.gravity.perp(&c).abs() / a.max(1e-300);
+                    across * across * a.powi(3) / 24.0
+                })
+                .sum::<f64>()
+        });
         if let Some(t) = &tensioner {
             q[t.dof] = t.design;
         }
@@ -549,6 +566,7 @@ impl BeltDrive {
             held_angles: None,
             belt_anchor: None,
             frictionless_preload: false,
+            sag_coeff,
             asm,
             spec,
         };

@@ -280,7 +280,7 @@ pub fn params(s: &BeltDriveScene) -> Result<Vec<ParamDef>, String> {
             BELT_PRETENSION,
             real(b.pretension),
             Some(Unit::N),
-            "Span tension at rest: the belt is mounted with this tension and the static pre-load is solved at initialization",
+            "Span tension at rest: the mean over the spans of the axial force at each span's middle (with gravity a span sags and its tension rises towards its ends by the weight times the height; on a horizontal span the mid-span force is the catenary's horizontal tension); the belt is mounted with this tension and the static pre-load is solved at initialization",
             Check::Positive,
         ),
         ParamDef::new(
