@@ -381,7 +381,7 @@ fn euler_eytelwein_at_slip_onset_on_the_accessories() {
 /// 0.5 ms steps and the integrator's own predictor 707 of 2114 steps failed Newton and were
 /// halved (mean accepted step 0.25 ms, mismatch 0.58 %); the transport predictor converges
 /// where they failed (274 rejected, mean step 0.36 ms) and the mismatch at 0.5 ms is 1.31 %.
-/// At 0.25 ms: 0.59 % (88 rejected) and 0.77 % (23); at 0.125 ms both 0.19 % and the dissipated
+/// At 0.25 ms: 0.59 % (88 rejected) and 0.74 % (23); at 0.125 ms both 0.19 % and the dissipated
 /// energy agrees within 1e-4 (session 24, branch pred12).
 #[test]
 fn energy_balance_of_the_serpentine_drive() {
