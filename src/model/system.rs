@@ -86,8 +86,9 @@ pub trait MechanicalSystem {
     /// the end of the step. The model may overwrite any entries of `q1` with its own
     /// prediction (the integrator converts those into its unknowns, the rest keep its
     /// predictor) and returns whether it changed anything. The prediction only moves the
-    /// start of the iteration: the converged step is the same within the Newton tolerance.
-    /// Must not allocate (it runs every step). Default: no prediction.
+    /// start of the iteration: where Newton converges from either start, the converged step
+    /// is the same within the Newton tolerance (where only one converges, the substeps taken
+    /// differ). Must not allocate (it runs every step). Default: no prediction.
     fn predict(&mut self, _q0: &[f64], _v0: &[f64], _h: f64, _q1: &mut [f64]) -> bool {
         false
     }
