@@ -372,11 +372,17 @@ fn euler_eytelwein_at_slip_onset_on_the_accessories() {
     }
 }
 
-/// Energy balance of the serpentine drive (Newmark, no numerical damping, 0.5 ms steps) over
+/// Energy balance of the serpentine drive (Newmark, no numerical damping, 0.25 ms steps) over
 /// a start-up to 60 rad/s with load torques on the alternator and the A/C compressor: the work
 /// of the crank and of the load torques equals the change of kinetic energy (belt, pulleys,
 /// tensioner arm), strain energy (belt, contact penalty, tensioner spring) plus the dissipation
 /// (friction, contact, material, bearing and tensioner damping) within 1 % of the input work.
+/// The mismatch is the scheme's energy error, so it depends on the internal steps taken: with
+/// 0.5 ms steps and the integrator's own predictor 707 of 2114 steps failed Newton and were
+/// halved (mean accepted step 0.25 ms, mismatch 0.58 %); the transport predictor converges
+/// where they failed (274 rejected, mean step 0.36 ms) and the mismatch at 0.5 ms is 1.31 %.
+/// At 0.25 ms: 0.59 % (88 rejected) and 0.74 % (23); at 0.125 ms both 0.19 % and the dissipated
+/// energy agrees within 1e-4 (session 24, branch pred12).
 #[test]
 fn energy_balance_of_the_serpentine_drive() {
     use flexfmu::kinds::belt_drive::scene::{BeltOutput, Output};
@@ -384,7 +390,7 @@ fn energy_balance_of_the_serpentine_drive() {
     use flexfmu::scene::params::names::{SOLVER_MAX_STEP, SOLVER_RHO_INF};
     let mut sim = sim_of(&[
         (SOLVER_RHO_INF, Value::Real(1.0)),
-        (SOLVER_MAX_STEP, Value::Real(5e-4)),
+        (SOLVER_MAX_STEP, Value::Real(2.5e-4)),
     ]);
     let e = |sim: &flexfmu::solver::simulation::Simulation, o: Output| {
         sim.model_as::<BeltDrive>().unwrap().output_of(o)

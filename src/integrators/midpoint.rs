@@ -36,6 +36,18 @@ impl Midpoint {
                 v[i] = s0.v[i] + 0.5 * h * x[i];
             }
         };
+        // The model's own prediction of q₁, if any, converted into the mean acceleration.
+        update(&acc, q, v);
+        v.copy_from_slice(q);
+        if sys.predict(&s0.q, &s0.v, h, q) {
+            // start with a fresh iteration matrix, as generalized-α does (see there)
+            ws.invalidate();
+            for i in 0..acc.len() {
+                if q[i] != v[i] {
+                    acc[i] = 2.0 * (q[i] - s0.q[i] - h * s0.v[i]) / (h * h);
+                }
+            }
+        }
         // v holds the midpoint velocity during the iteration (for damping forces).
         let res = newton::solve(
             ws,

@@ -80,6 +80,19 @@ pub trait MechanicalSystem {
         false
     }
 
+    /// A start for the Newton iteration of a time step that is better than the integrator's
+    /// own predictor. `q0`, `v0` are the free coordinates and velocities at the start of the
+    /// step, `h` the step [s]; on entry `q1` holds the integrator's predicted coordinates at
+    /// the end of the step. The model may overwrite any entries of `q1` with its own
+    /// prediction (the integrator converts those into its unknowns, the rest keep its
+    /// predictor) and returns whether it changed anything. The prediction only moves the
+    /// start of the iteration: where Newton converges from either start, the converged step
+    /// is the same within the Newton tolerance (where only one converges, the substeps taken
+    /// differ). Must not allocate (it runs every step). Default: no prediction.
+    fn predict(&mut self, _q0: &[f64], _v0: &[f64], _h: f64, _q1: &mut [f64]) -> bool {
+        false
+    }
+
     /// Called by the static solver after every converged load increment with the free
     /// coordinates of that equilibrium. A model whose coordinates are increments from stored
     /// values (incremental rotation vectors) absorbs them here and resets `q` consistently, so

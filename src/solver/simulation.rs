@@ -85,10 +85,30 @@ impl SolverConfig {
 pub struct RunStats {
     /// Accepted internal steps.
     pub steps: usize,
-    /// Rejected internal steps (Newton failures).
+    /// Rejected internal steps (Newton failures and error-estimate rejections).
     pub rejected: usize,
+    /// Of those, the steps rejected by the local error estimate (above `solver.tolerance`
+    /// with error control, above [`SAFETY_ERROR`] without); the rest are Newton failures.
+    pub rejected_error: usize,
     /// Newton work.
     pub newton: NewtonStats,
+}
+
+/// One rejected internal step, recorded when [`Simulation::log_rejections`] is on
+/// (diagnostics: which coordinate stopped the step).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rejection {
+    /// Start of the step [s].
+    pub t: f64,
+    /// Step size [s].
+    pub h: f64,
+    /// The Newton failure, or `None` for a rejection by the error estimate.
+    pub newton: Option<String>,
+    /// Free coordinate with the largest scaled entry: of the error estimate, or of the last
+    /// Newton increment.
+    pub coordinate: usize,
+    /// That scaled entry [1] (error / coordinate scale, or increment · β h² / scale).
+    pub value: f64,
 }
 
 /// A communication step that could not be completed.
@@ -115,6 +135,8 @@ pub struct Simulation {
     err: Vec<f64>,
     /// Buffers of the explicit scheme's stable-step estimate (sized on first use).
     power: PowerScratch,
+    /// Rejected steps since logging was switched on, if it is.
+    rejections: Option<Vec<Rejection>>,
 }
 
 /// Buffers of the power iteration in [`Simulation::explicit_step_limit`].
@@ -168,6 +190,7 @@ impl Simulation {
             h_next: cfg.max_step,
             err: vec![0.0; n],
             power: PowerScratch::default(),
+            rejections: None,
         })
     }
 
@@ -286,6 +309,50 @@ impl Simulation {
     /// Work counters so far.
     pub fn stats(&self) -> RunStats {
         self.stats
+    }
+
+    /// Switches the log of rejected internal steps on (cleared) or off (diagnostics; a
+    /// rejection allocates its record).
+    pub fn log_rejections(&mut self, on: bool) {
+        self.rejections = on.then(Vec::new);
+    }
+
+    /// The rejected internal steps logged since [`Simulation::log_rejections`], emptied.
+    pub fn take_rejections(&mut self) -> Vec<Rejection> {
+        self.rejections
+            .as_mut()
+            .map(std::mem::take)
+            .unwrap_or_default()
+    }
+
+    /// Records a rejection when logging (largest scaled entry of `x`, times `factor`).
+    fn record_rejection(&mut self, h: f64, newton: Option<String>, from_error: bool) {
+        let Some(log) = self.rejections.as_mut() else {
+            return;
+        };
+        let (x, factor) = if from_error {
+            (&self.err, 1.0)
+        } else {
+            let f = match self.cfg.integrator {
+                Integrator::GeneralizedAlpha(g) => g.beta * h * h,
+                _ => 0.5 * h * h,
+            };
+            (&self.ws.dx, f)
+        };
+        let (mut coordinate, mut value) = (0, 0.0);
+        for (k, (d, s)) in x.iter().zip(&self.ws.scales).enumerate() {
+            let e = (d * factor / s).abs();
+            if e > value || e.is_nan() {
+                (coordinate, value) = (k, e);
+            }
+        }
+        log.push(Rejection {
+            t: self.state.t,
+            h,
+            newton,
+            coordinate,
+            value,
+        });
     }
 
     /// Current solver settings.
@@ -654,6 +721,8 @@ impl Simulation {
                             factor = Some((0.9 * e.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 2.0));
                             if e > 1.0 && h > h_min {
                                 self.stats.rejected += 1;
+                                self.stats.rejected_error += 1;
+                                self.record_rejection(h, None, true);
                                 h_limit = h * factor.unwrap_or(0.5);
                                 continue;
                             }
@@ -672,6 +741,8 @@ impl Simulation {
                         }
                         if (raw > SAFETY_ERROR || raw.is_nan()) && h > h_min {
                             self.stats.rejected += 1;
+                            self.stats.rejected_error += 1;
+                            self.record_rejection(h, None, true);
                             h_limit = 0.5 * h;
                             continue;
                         }
@@ -696,6 +767,9 @@ impl Simulation {
             };
             if let Some(e) = failure {
                 self.stats.rejected += 1;
+                if self.rejections.is_some() {
+                    self.record_rejection(h, Some(e.clone()), false);
+                }
                 h_limit = 0.5 * h;
                 if h_limit < h_min {
                     return Err(fail(
