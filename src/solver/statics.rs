@@ -49,8 +49,14 @@ pub fn solve(
     settings: &NewtonSettings,
     load_steps: usize,
 ) -> Result<StaticStats, StaticError> {
+    held(sys, |sys| follow_load(sys, ws, q, settings, load_steps))
+}
+
+/// Runs `f` with the model's coordinates without static support held
+/// ([`MechanicalSystem::hold_for_statics`]).
+fn held<T>(sys: &mut dyn MechanicalSystem, f: impl FnOnce(&mut dyn MechanicalSystem) -> T) -> T {
     sys.hold_for_statics(true);
-    let result = follow_load(sys, ws, q, settings, load_steps);
+    let result = f(&mut *sys);
     sys.hold_for_statics(false);
     result
 }
@@ -204,10 +210,7 @@ pub fn relax(
     settings: &NewtonSettings,
     max_iterations: usize,
 ) -> Result<RelaxStats, String> {
-    sys.hold_for_statics(true);
-    let result = relax_held(sys, ws, q, settings, max_iterations);
-    sys.hold_for_statics(false);
-    result
+    held(sys, |sys| relax_held(sys, ws, q, settings, max_iterations))
 }
 
 /// The iteration of [`relax`].
