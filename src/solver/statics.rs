@@ -61,6 +61,28 @@ fn held<T>(sys: &mut dyn MechanicalSystem, f: impl FnOnce(&mut dyn MechanicalSys
     result
 }
 
+/// The static residual `f_int(q) − λ f_ext` at rest (zero velocities and accelerations,
+/// `zeros` of the length of `q`) into `ws.r`, and the iteration matrix for `coeffs` into
+/// `ws.jac`.
+fn static_residual(
+    sys: &mut dyn MechanicalSystem,
+    ws: &mut Workspace,
+    q: &[f64],
+    zeros: &[f64],
+    load: f64,
+    coeffs: JacobianCoeffs,
+) -> Result<(), crate::model::ModelError> {
+    sys.residual(
+        0.0,
+        q,
+        zeros,
+        zeros,
+        load,
+        &mut ws.r,
+        Some((coeffs, &mut ws.jac)),
+    )
+}
+
 /// The load stepping of [`solve`].
 fn follow_load(
     sys: &mut dyn MechanicalSystem,
@@ -90,17 +112,7 @@ fn follow_load(
     // length) is not on the load path: its first increment cannot be checked against the path.
     // (A failure here is left to the first increment, which reports it.)
     let mut on_path = true;
-    if sys
-        .residual(
-            0.0,
-            q,
-            &zeros,
-            &zeros,
-            0.0,
-            &mut ws.r,
-            Some((coeffs, &mut ws.jac)),
-        )
-        .is_ok()
+    if static_residual(sys, ws, q, &zeros, 0.0, coeffs).is_ok()
         && ws.solver.factor(&ws.pattern, &ws.jac).is_ok()
     {
         ws.solver.solve_in_place(&mut ws.r);
@@ -111,16 +123,7 @@ fn follow_load(
         let target = (lambda + dl).min(1.0);
         let mut attempt = || -> Result<NewtonStats, String> {
             // Tangent predictor from the last equilibrium.
-            sys.residual(
-                0.0,
-                q,
-                &zeros,
-                &zeros,
-                target,
-                &mut ws.r,
-                Some((coeffs, &mut ws.jac)),
-            )
-            .map_err(|e| e.to_string())?;
+            static_residual(sys, ws, q, &zeros, target, coeffs).map_err(|e| e.to_string())?;
             ws.solver
                 .factor(&ws.pattern, &ws.jac)
                 .map_err(|e| e.to_string())?;
@@ -228,16 +231,7 @@ fn relax_held(
                     ws: &mut Workspace,
                     c: JacobianCoeffs,
                     out: &mut Vec<f64>| {
-        sys.residual(
-            0.0,
-            q,
-            &zeros,
-            &zeros,
-            1.0,
-            &mut ws.r,
-            Some((c, &mut ws.jac)),
-        )
-        .map_err(|e| e.to_string())?;
+        static_residual(sys, ws, q, &zeros, 1.0, c).map_err(|e| e.to_string())?;
         out.clear();
         out.extend((0..n).map(|j| ws.pattern.position(j, j).map_or(0.0, |p| ws.jac[p].abs())));
         Ok::<(), String>(())
@@ -279,16 +273,7 @@ fn relax_held(
             damping: 0.0,
             stiffness: 1.0,
         };
-        sys.residual(
-            0.0,
-            q,
-            &zeros,
-            &zeros,
-            1.0,
-            &mut ws.r,
-            Some((coeffs, &mut ws.jac)),
-        )
-        .map_err(|e| e.to_string())?;
+        static_residual(sys, ws, q, &zeros, 1.0, coeffs).map_err(|e| e.to_string())?;
         let r_now = norm(&ws.r);
         if !r_now.is_finite() {
             return Err("non-finite residual in the pseudo-transient relaxation".into());
