@@ -80,9 +80,11 @@ def test_mujoco_cosimulation_agrees_with_internal_inertias(fmus):
 
 
 @pytest.mark.parametrize("name,tension,free", [("belt_drive", "belt.tension_tight", "pulley2.omega"),
-                                                ("serpentine", "span1.tension", "pulley6.omega")])
+                                                ("serpentine", "span1.tension", "pulley6.omega"),
+                                                ("belt_drive_3d", "belt.tension_tight", "pulley2.omega")])
 def test_driven_pulley_started_at_speed_initializes(fmus, name, tension, free):
-    """A master that starts the driven pulley at speed (start value `pulley1.omega` = 20 rad/s)
+    """A master that starts the driven pulley at speed (start value `pulley1.omega` = 20 rad/s;
+    planar, serpentine and 3D drives)
     with the scene's `solver.static_equilibrium = true`: the static solve is the belt at rest
     (before the fix it made the friction slide at the pulley's speed and
     `fmi2ExitInitializationMode` failed with "static equilibrium not found"). At t = 0 the

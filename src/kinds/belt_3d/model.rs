@@ -566,12 +566,21 @@ impl Belt3d {
         prescribed(&sg.angle, &sg.omega, t)
     }
 
-    /// Sets the driven pulleys' angles and speeds at time `t` into full vectors.
+    /// Sets the driven pulleys' angles and speeds at time `t` into full vectors. In a static
+    /// solve ([`MechanicalSystem::hold_for_statics`]) the driven pulleys stand at their angles
+    /// with zero speed, as in the planar drive: statics is the belt at rest, and a master that
+    /// starts a driven pulley at speed (`pulleyN.omega` start value ≠ 0) must not make the
+    /// friction of the static problem slide (it did: "static equilibrium not found" at
+    /// `fmi2ExitInitializationMode`).
+    ///
+    /// [`MechanicalSystem::hold_for_statics`]: crate::model::MechanicalSystem::hold_for_statics
     fn prescribe(&self, t: f64, q: Option<&mut [f64]>, v: Option<&mut [f64]>) {
         let (mut q, mut v) = (q, v);
+        let at_rest = self.held.is_some();
         for (k, p) in self.spec.pulleys.iter().enumerate() {
             if let Pulley3dMotion::Driven { .. } = p.motion {
                 let (th, om, _) = self.driven(k, t);
+                let om = if at_rest { 0.0 } else { om };
                 if let Some(q) = q.as_deref_mut() {
                     q[self.pulley_dof[k]] = th;
                 }
