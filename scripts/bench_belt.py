@@ -290,6 +290,7 @@ def run_exudyn_test_model(t_end, h=0.5e-3, per_section=32):
 
 def plot(rows, path):
     import matplotlib
+    import matplotlib.ticker
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -307,6 +308,10 @@ def plot(rows, path):
         e = exu_rows[0]
         ax.axhline(e["rtf"], color="C3", ls="--", label=f"Exudyn test model ({e['elements']} el, 0.5 ms)")
         ax.axhline(10 * e["rtf"], color="C3", ls=":", label="10x Exudyn")
+    ticks = sorted({r["elements"] for r in rows if r["tool"] == "flexfmu"})
+    ax.set_xticks(ticks)
+    ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+    ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
     ax.set_xlabel("belt elements")
     ax.set_ylabel("real-time factor (simulated / wall time)")
     ax.grid(True, which="both", alpha=0.3)
