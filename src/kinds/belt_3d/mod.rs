@@ -135,6 +135,15 @@ pub struct Contact3d {
     /// Bristle stiffness per unit belt length [N/m2] (0: automatic, k_n/10).
     #[serde(default)]
     pub friction_stiffness: f64,
+    /// Contact points across the belt's width per node, 1 … 5 (Gauss–Lobatto, edges
+    /// included; 1: the centre line only, no contact moment about the belt's tangent).
+    #[serde(default = "default_width_points")]
+    pub width_points: u8,
+}
+
+/// Default of `[contact] width_points`.
+fn default_width_points() -> u8 {
+    1
 }
 
 /// How a 3D pulley moves (as the planar drive's).
