@@ -187,8 +187,9 @@ impl Drive {
             gravity: Vector3::zeros(),
             bowing,
             space_mount,
-            // BELT3D_WIDTH_POINTS=3 measures the planar limit with contact across the width
-            width_points: std::env::var("BELT3D_WIDTH_POINTS").map_or(1, |v| v.parse().unwrap()),
+            // the scenes' default, 3 across the width; BELT3D_WIDTH_POINTS=1 measures the
+            // planar limit with the centre-line contact
+            width_points: std::env::var("BELT3D_WIDTH_POINTS").map_or(3, |v| v.parse().unwrap()),
         })
         .unwrap()
     }
@@ -480,7 +481,11 @@ fn skewed_pulley_walks_the_belt_onto_the_flange() {
     let skew: f64 = std::env::var("BELT3D_SKEW").map_or(0.02, |v| v.parse().unwrap());
     // BELT3D_PARAM=pulley2.tilt measures the walk of a tilt instead (not asserted on)
     let param = std::env::var("BELT3D_PARAM").unwrap_or("pulley2.skew".into());
-    let mut sim = common::simulation(&scene, &[(param.as_str(), Value::Real(skew))]).unwrap();
+    let mut sim = common::simulation(
+        &scene,
+        &[(param.as_str(), Value::Real(skew)), width_points()],
+    )
+    .unwrap();
     let (ia, iw) = (
         common::input_index(&scene, "pulley1.angle"),
         common::input_index(&scene, "pulley1.omega"),
@@ -541,6 +546,22 @@ fn skewed_pulley_walks_the_belt_onto_the_flange() {
         rate.abs() > 0.5 * expected && rate.abs() < expected,
         "lateral speed {rate} vs v skew {expected}"
     );
+}
+
+/// `contact.width_points` of the shipped scenes' tests: the scene's default, or
+/// `BELT3D_WIDTH_POINTS` to measure them with another count.
+fn width_points() -> (&'static str, Value) {
+    let default = common::scene("belt_drive_3d")
+        .params
+        .iter()
+        .find(|p| p.name == "contact.width_points")
+        .map(|p| p.start)
+        .unwrap();
+    (
+        "contact.width_points",
+        std::env::var("BELT3D_WIDTH_POINTS")
+            .map_or(default, |v| Value::Integer(v.parse().unwrap())),
+    )
 }
 
 /// Runs `belt_drive_3d` with the parameters `params`, pulley 1 ramped to 10 rad/s over
@@ -613,7 +634,7 @@ fn crown_exploration() {
     let crown: f64 = std::env::var("BELT3D_CROWN").map_or(5e-4, |v| v.parse().unwrap());
     let offset: f64 = std::env::var("BELT3D_OFFSET").map_or(5e-3, |v| v.parse().unwrap());
     let steps: usize = std::env::var("BELT3D_STEPS").map_or(600, |v| v.parse().unwrap());
-    let width: i32 = std::env::var("BELT3D_WIDTH_POINTS").map_or(1, |v| v.parse().unwrap());
+    let width: i32 = std::env::var("BELT3D_WIDTH_POINTS").map_or(3, |v| v.parse().unwrap());
     for c in [0.0, crown] {
         let tr = lateral_trace(
             &[
@@ -740,7 +761,7 @@ fn quarter_twist_drive_carries_torque() {
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/conveyor_twist.toml"),
     )
     .unwrap();
-    let mut sim = common::simulation(&scene, &[]).unwrap();
+    let mut sim = common::simulation(&scene, &[width_points()]).unwrap();
     let (ia, iw, it) = (
         common::input_index(&scene, "pulley1.angle"),
         common::input_index(&scene, "pulley1.omega"),

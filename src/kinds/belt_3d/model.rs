@@ -20,7 +20,10 @@
 //! points on the chord would sit `l² ξ(1 − ξ)/(2R)` inside a pulley of pitch radius `R`
 //! (0.16 mm for 8 mm elements on a 50 mm pulley, far beyond the penalty penetration), so
 //! only the nodes, which lie on the centre line, carry contact; each stands for one
-//! element length.
+//! element length. Each node's section touches the rims at `contact.width_points` points
+//! across the width ([`SectionContactSet`]: forces and moments on the node), so that the
+//! belt lies across a crown; on a pulley's arc the mount turns the section onto the rim's
+//! generator (tilted by the crown's slope and the pulley's tilt).
 
 use super::Belt3dScene;
 use super::path::{SpaceCircle, SpacePath};
