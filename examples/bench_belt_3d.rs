@@ -3,7 +3,8 @@
 //! running (pulley 1 ramped to 10 rad/s over 0.1 s, 5 N m load on pulley 2), 1 ms steps.
 //! Prints wall time, real-time factor (simulated / wall time, in process, without fmpy),
 //! Newton iterations and the cost per element per Newton iteration. Timings are of this run
-//! on this machine; compare the ratios within one run.
+//! on this machine; compare the ratios within one run. The 3D belt runs with the contact at
+//! the centre line (`contact.width_points` = 1) and across the width (3 points).
 //!
 //! `cargo run --release --example bench_belt_3d`
 
@@ -13,12 +14,15 @@ use flexfmu::solver::simulation::{Simulation, SolverConfig};
 use flexfmu::variables::{Role, Value, VariableTable};
 use std::time::Instant;
 
-fn run(name: &str, n_el: i32) -> (f64, usize, usize) {
+fn run(name: &str, n_el: i32, width_points: Option<i32>) -> (f64, usize, usize) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml"));
     let scene = Scene::from_path(&path).unwrap();
     let vars = VariableTable::from_scene(&scene);
     let mut p = ParamValues::defaults(&scene.params);
     p.set("belt.n_elements", Value::Integer(n_el));
+    if let Some(w) = width_points {
+        p.set("contact.width_points", Value::Integer(w));
+    }
     let input = |n: &str| match vars.by_name(n).unwrap().role {
         Role::Input(k) => k,
         _ => panic!("{n}"),
@@ -55,8 +59,16 @@ fn main() {
         "scene | elements | wall [s] for 0.3 s | real-time factor | steps | Newton iterations | us per element per iteration"
     );
     for n in [60, 120, 240] {
-        for name in ["belt_drive", "belt_drive_3d"] {
-            let (wall, steps, its) = run(name, n);
+        for (name, width) in [
+            ("belt_drive", None),
+            ("belt_drive_3d", Some(1)),
+            ("belt_drive_3d", Some(3)),
+        ] {
+            let (wall, steps, its) = run(name, n, width);
+            let name = match width {
+                Some(w) => format!("{name} (width_points {w})"),
+                None => name.to_string(),
+            };
             println!(
                 "{name} | {n} | {wall:.3} | {:.2} | {steps} | {its} | {:.3}",
                 0.3 / wall,

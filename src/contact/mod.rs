@@ -9,9 +9,11 @@ pub mod obstacle;
 pub mod point_set;
 pub mod pulley3d;
 pub mod revolution;
+pub mod section3d;
 
 pub use arm_pulley::{ArmContact, ArmPulley};
 pub use circle_friction::{Circle, ContactLaw, PointContact, PointHistory, PointState};
 pub use obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
 pub use point_set::{ContactBook, ContactPointSet, ObstacleLoad};
 pub use pulley3d::{Pulley3d, Pulley3dContact, Pulley3dHistory};
+pub use section3d::SectionContactSet;

@@ -126,6 +126,11 @@ impl Pulley3d {
         }
     }
 
+    /// First basis vector of the polar angle (perpendicular to the axis).
+    pub fn u1(&self) -> Vector3<f64> {
+        self.u1
+    }
+
     /// Axial position of the point `r` on the rim, measured from the rim's middle [m] (the
     /// belt's lateral position on this pulley).
     pub fn lateral(&self, r: &Vector3<f64>) -> f64 {
@@ -383,6 +388,23 @@ pub fn evaluate(
     omega: f64,
     hist: &Pulley3dHistory,
 ) -> Option<Pulley3dContact> {
+    evaluate_parts(pul, law, w, w, p, theta, omega, hist)
+}
+
+/// [`evaluate`] with separate weights of the rim contact `w_rim` [m] (the belt length, or
+/// the share of the section, the point stands for) and of the flange contact `w_flange` [m]
+/// (the belt length whose edge the point is; 0: the point does not touch the flanges).
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate_parts(
+    pul: &Pulley3d,
+    law: &ContactLaw,
+    w_rim: f64,
+    w_flange: f64,
+    p: &PointMotion<3>,
+    theta: f64,
+    omega: f64,
+    hist: &Pulley3dHistory,
+) -> Option<Pulley3dContact> {
     let mut res = Pulley3dContact {
         force: Vector3::zeros(),
         torque: 0.0,
@@ -398,8 +420,8 @@ pub fn evaluate(
         k: Matrix4::zeros(),
         c: Matrix4::zeros(),
     };
-    let on_rim = rim(pul, law, w, p, theta, omega, hist, &mut res);
-    let on_flange = flanges(pul, law, w, p, &mut res);
+    let on_rim = w_rim > 0.0 && rim(pul, law, w_rim, p, theta, omega, hist, &mut res);
+    let on_flange = w_flange > 0.0 && flanges(pul, law, w_flange, p, &mut res);
     if !(on_rim || on_flange) {
         return None;
     }

@@ -101,6 +101,8 @@ pub mod names {
     pub const CONTACT_DAMPING: &str = "contact.damping";
     /// Bristle stiffness [N/m2] (0: automatic).
     pub const CONTACT_FRICTION_STIFFNESS: &str = "contact.friction_stiffness";
+    /// Contact points across the belt's width per node (Integer).
+    pub const CONTACT_WIDTH_POINTS: &str = "contact.width_points";
 }
 
 use names::*;
@@ -323,6 +325,13 @@ pub fn params(s: &Belt3dScene) -> Result<Vec<ParamDef>, String> {
             Some(Unit::NPerM2),
             "Bristle stiffness per unit belt length in stick (both surface directions); 0 = automatic: 1/10 of the normal stiffness",
             Check::NonNegative,
+        ),
+        ParamDef::new(
+            CONTACT_WIDTH_POINTS,
+            Value::Integer(c.width_points.into()),
+            None,
+            "Contact points across the belt's width per node (Gauss-Lobatto, edges included; 1 = the centre line only): with 2 or more the rim pressure over the width gives a moment about the belt's tangent, so a crowned rim centres the belt, and the belt's edges meet the flanges",
+            Check::IntRange(1, 5),
         ),
     ];
     for (i, p) in s.pulley.iter().enumerate() {
