@@ -33,6 +33,10 @@ pub const MODIFIED_NEWTON_RATE: f64 = 0.25;
 /// Iterations in a row that modified Newton does with one matrix before rebuilding it.
 pub const MODIFIED_NEWTON_MAX_REUSE: usize = 4;
 
+/// Halvings of a full-Newton increment that did not lower the residual norm, at most, before
+/// the iteration goes on from the shortened increment (see [`solve`]).
+pub const LINE_SEARCH_MAX_CUTS: usize = 3;
+
 /// Why Newton failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum NewtonError {
@@ -69,12 +73,15 @@ pub struct NewtonStats {
     pub iterations: usize,
     /// Numeric factorizations.
     pub factorizations: usize,
+    /// Residual evaluations spent shortening increments (backtracking, see [`solve`]).
+    pub backtracks: usize,
 }
 
 impl std::ops::AddAssign for NewtonStats {
     fn add_assign(&mut self, o: Self) {
         self.iterations += o.iterations;
         self.factorizations += o.factorizations;
+        self.backtracks += o.backtracks;
     }
 }
 
@@ -180,16 +187,39 @@ pub fn solve(
     let mut last = f64::INFINITY;
     let mut stale_iterations = 0;
     let mut it = 0;
+    // Backtracking: the residual norm at the start of the last full-Newton step and the
+    // fraction of that step still applied (None: the last step was not a full-Newton step).
+    let mut line: Option<(f64, f64)> = None;
+    let mut cuts = 0;
     while it < settings.max_iterations {
-        it += 1;
         if fresh {
             eval(x, &mut ws.r, Some(&mut ws.jac))?;
+        } else {
+            eval(x, &mut ws.r, None)?;
+        }
+        let norm = ws.r.iter().map(|r| r * r).sum::<f64>().sqrt();
+        if let Some((prev, alpha)) = line
+            && !(norm < prev)
+            && cuts < LINE_SEARCH_MAX_CUTS
+        {
+            // The full-Newton increment (whose direction is one of descent for |r|²) did not
+            // lower the residual: take back half of what was applied and evaluate again.
+            let back = 0.5 * alpha;
+            for (xi, d) in x.iter_mut().zip(&ws.dx) {
+                *xi -= back * d;
+            }
+            line = Some((prev, alpha - back));
+            last *= (alpha - back) / alpha;
+            cuts += 1;
+            stats.backtracks += 1;
+            continue;
+        }
+        it += 1;
+        if fresh {
             ws.factored = None;
             ws.solver.factor(&ws.pattern, &ws.jac)?;
             ws.factored = Some(coeffs);
             stats.factorizations += 1;
-        } else {
-            eval(x, &mut ws.r, None)?;
         }
         for (d, r) in ws.dx.iter_mut().zip(&ws.r) {
             *d = -r;
@@ -203,6 +233,7 @@ pub fn solve(
                 // a stale iteration matrix: retry this iteration with a fresh one
                 fresh = true;
                 last = f64::INFINITY;
+                line = None;
                 continue;
             }
             ws.factored = None;
@@ -214,6 +245,8 @@ pub fn solve(
         for (xi, d) in x.iter_mut().zip(&ws.dx) {
             *xi += d;
         }
+        line = fresh.then_some((norm, 1.0));
+        cuts = 0;
         // With linear convergence at rate θ the remaining error is about θ/(1−θ) times the
         // increment (Hairer & Wanner); with quadratic convergence the increment bounds it.
         // A first increment with a kept (stale) matrix says nothing about the rate: iterate on.
