@@ -214,7 +214,7 @@ pub fn solve(
         }
         let norm = ws.r.iter().map(|r| r * r).sum::<f64>().sqrt();
         if let Some((prev, alpha)) = line
-            && !(norm <= LINE_SEARCH_RISE * prev)
+            && (norm > LINE_SEARCH_RISE * prev || norm.is_nan())
             && cuts < LINE_SEARCH_MAX_CUTS
         {
             // The full-Newton increment (whose direction is one of descent for |r|²) did not
