@@ -299,6 +299,48 @@ pub fn solve(
 mod tests {
     use super::*;
 
+    /// Damped Newton on `atan(x) = 0` from `x0 = 2`: the full step lands at
+    /// `2 − atan(2)·5 = −3.54`, where `|atan|` is larger (1.295 > 1.107), and undamped Newton
+    /// diverges from there (a textbook case, Deuflhard 2004, §1.1); halving the step brings
+    /// the iteration into the region of convergence and it finds the root 0.
+    #[test]
+    fn backtracking_converges_where_full_newton_steps_diverge() {
+        let pattern = CscPattern::from_entries(1, [(0, 0)]);
+        let mut ws = Workspace {
+            r: vec![0.0],
+            dx: vec![0.0],
+            jac: vec![0.0],
+            solver: LinearSolver::new(&pattern, SolverKind::Auto).unwrap(),
+            pattern,
+            scales: vec![1.0],
+            factored: None,
+        };
+        let x0: f64 = 2.0;
+        let full_step = x0 - x0.atan() * (1.0 + x0 * x0);
+        assert!(full_step.atan().abs() > LINE_SEARCH_RISE * x0.atan().abs());
+        let settings = NewtonSettings {
+            tolerance: 1e-12,
+            max_iterations: 25,
+            policy: NewtonPolicy::Full,
+        };
+        let coeffs = JacobianCoeffs {
+            mass: 1.0,
+            damping: 0.0,
+            stiffness: 0.0,
+        };
+        let mut x = [x0];
+        let stats = solve(&mut ws, &mut x, &settings, 1.0, coeffs, |x, r, jac| {
+            r[0] = x[0].atan();
+            if let Some(j) = jac {
+                j[0] = 1.0 / (1.0 + x[0] * x[0]);
+            }
+            Ok(())
+        })
+        .unwrap();
+        assert!(x[0].abs() < 1e-12, "{}", x[0]);
+        assert!(stats.backtracks >= 1, "{stats:?}");
+    }
+
     /// A step size that differs from the factorized one by round-off (a master's
     /// `t_{k+1} − t_k`) reuses the factorization; a step size 1e-6 apart does not.
     #[test]
