@@ -31,6 +31,7 @@ struct Run {
     rejected_error: usize,
     iterations: usize,
     factorizations: usize,
+    backtracks: usize,
     causes: BTreeMap<String, usize>,
     examples: Vec<String>,
     omega: Vec<f64>,
@@ -175,6 +176,7 @@ fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String]) -> 
         rejected_error: s.rejected_error - s0.rejected_error,
         iterations: s.newton.iterations - s0.newton.iterations,
         factorizations: s.newton.factorizations - s0.newton.factorizations,
+        backtracks: s.newton.backtracks - s0.newton.backtracks,
         causes,
         examples,
         omega: omega_out.iter().map(|&o| sim.output(o)).collect(),
@@ -194,17 +196,18 @@ fn main() {
         _ => &[false, true],
     };
     println!(
-        "scene | elements | predictor | real-time factor | it/step | fact/step | internal steps | rejected (error estimate) | omega 2..n at the end [rad/s]"
+        "scene | elements | predictor | real-time factor | it/step | fact/step | backtracks/step | internal steps | rejected (error estimate) | omega 2..n at the end [rad/s]"
     );
     for &pred in variants {
         let r = run(&name, n_el, t_end, pred, &extra);
         let comm = (t_end / 1e-3).round();
         println!(
-            "{name} | {n_el} | {} | {:.3} | {:.2} | {:.2} | {} | {} ({}) | {:?}",
+            "{name} | {n_el} | {} | {:.3} | {:.2} | {:.2} | {:.2} | {} | {} ({}) | {:?}",
             if pred { "transport" } else { "integrator's" },
             t_end / r.wall,
             r.iterations as f64 / comm,
             r.factorizations as f64 / comm,
+            r.backtracks as f64 / comm,
             r.steps,
             r.rejected,
             r.rejected_error,

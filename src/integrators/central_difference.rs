@@ -40,6 +40,7 @@ impl CentralDifference {
         let mut stats = NewtonStats {
             iterations: 1,
             factorizations: 0,
+            backtracks: 0,
         };
         let reuse = constant_mass && ws.is_factored(&MASS_ONLY);
         if reuse {
