@@ -1464,9 +1464,10 @@ mod tests {
     /// coupled to the belt through its idler's contact (the blocks belt ↔ ψ, idler ↔ ψ, ψ ↔ ψ).
     #[test]
     fn serpentine_jacobian_with_tensioner_matches_finite_differences() {
-        // one step: at 60 elements full Newton does not converge in the second step (session
-        // 23; the FMU halves most of its steps too), so the check runs after the first
-        let (m, s) = running_scene("serpentine", 60, 5, -6.0, 2000.0, 1, 5e-4);
+        // two steps: after the first the damped Newton (session 25) converges to a state
+        // without sliding points (the undamped one had some); before the damping, full Newton
+        // did not converge in the second step at 60 elements (session 23)
+        let (m, s) = running_scene("serpentine", 60, 5, -6.0, 2000.0, 2, 5e-4);
         let t = m
             .tensioner
             .as_ref()
