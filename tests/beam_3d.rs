@@ -470,6 +470,7 @@ fn free_flight_conserves_energy_over_many_revolutions() {
             tolerance: 1e-10,
             max_iterations: 30,
             policy: NewtonPolicy::Full,
+            line_search: false,
         };
         let h: f64 = 0.02;
         let (mut e0, mut h0) = (f64::NAN, nalgebra::Vector3::zeros());

@@ -33,6 +33,7 @@ fn newton() -> NewtonSettings {
         tolerance: 1e-9,
         max_iterations: 30,
         policy: NewtonPolicy::Full,
+        line_search: false,
     }
 }
 
@@ -268,6 +269,7 @@ fn config(h: f64) -> SolverConfig {
             tolerance: 1e-7,
             max_iterations: 25,
             policy: NewtonPolicy::Modified,
+            line_search: false,
         },
         static_equilibrium: false,
         load_steps: 1,

@@ -29,6 +29,7 @@ fn newton() -> NewtonSettings {
         tolerance: 1e-7,
         max_iterations: 25,
         policy: NewtonPolicy::Modified,
+        line_search: true,
     }
 }
 

@@ -59,6 +59,7 @@ impl Slack {
             tolerance: 1e-8,
             max_iterations: 25,
             policy: NewtonPolicy::Full,
+            line_search: true,
         };
         BeltDrive::new(BeltSpec {
             section: CableSection {

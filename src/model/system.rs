@@ -80,6 +80,13 @@ pub trait MechanicalSystem {
         false
     }
 
+    /// Whether the time steps' Newton iterations backtrack a full-Newton increment that
+    /// raises the residual norm ([`crate::solver::newton::NewtonSettings::line_search`]).
+    /// Default: no.
+    fn damped_newton(&self) -> bool {
+        false
+    }
+
     /// A start for the Newton iteration of a time step that is better than the integrator's
     /// own predictor. `q0`, `v0` are the free coordinates and velocities at the start of the
     /// step, `h` the step [s]; on entry `q1` holds the integrator's predicted coordinates at

@@ -67,6 +67,7 @@ impl SolverConfig {
                     1 => NewtonPolicy::Full,
                     _ => NewtonPolicy::Modified,
                 },
+                line_search: false,
             },
             tolerance: p.real(SOLVER_TOLERANCE),
             static_equilibrium: p.boolean(SOLVER_STATIC),
@@ -173,7 +174,8 @@ impl std::fmt::Debug for Simulation {
 impl Simulation {
     /// Prepares buffers and the factorization for `model` at time `t0`, from its committed
     /// state.
-    pub fn new(model: Box<dyn Model>, cfg: SolverConfig, t0: f64) -> Result<Self, String> {
+    pub fn new(model: Box<dyn Model>, mut cfg: SolverConfig, t0: f64) -> Result<Self, String> {
+        cfg.newton.line_search = model.damped_newton();
         let ws = Workspace::new(model.as_ref(), cfg.linear).map_err(|e| e.to_string())?;
         let n = model.n_free();
         let mut state = DynState::zeros(n, t0);
@@ -363,7 +365,10 @@ impl Simulation {
     /// Changes the tunable settings (step size, Newton settings).
     pub fn set_tunables(&mut self, cfg: &SolverConfig) {
         self.cfg.max_step = cfg.max_step;
-        self.cfg.newton = cfg.newton;
+        self.cfg.newton = NewtonSettings {
+            line_search: self.cfg.newton.line_search,
+            ..cfg.newton
+        };
         self.cfg.tolerance = cfg.tolerance;
         self.h_next = self.h_next.min(cfg.max_step);
     }
@@ -907,6 +912,7 @@ mod tests {
                 tolerance: 1e-12,
                 max_iterations: 10,
                 policy: NewtonPolicy::Full,
+                line_search: false,
             },
             tolerance: 0.0,
             static_equilibrium: false,

@@ -374,6 +374,7 @@ mod tests {
             tolerance: 1e-12,
             max_iterations: 25,
             policy: NewtonPolicy::Full,
+            line_search: false,
         };
         (s, ws, settings)
     }
@@ -381,18 +382,10 @@ mod tests {
     #[test]
     fn relaxation_reaches_what_newton_misses() {
         let (mut s, mut ws, settings) = spring();
-        // Newton alone (one load step: the spring has no load to step) fails from q = −3, also
-        // damped (`newton::solve` backtracks when |r| rises by 5 %): from x = q − 3 = −6 the
-        // iterates overshoot further each time, and where atan saturates near ±π/2 a full
-        // step keeps |r| within 5 % and is taken, and the iteration diverges.
-        let mut q = [-3.0];
+        // Newton alone (undamped, as the settings of a model without `damped_newton`; one
+        // load step: the spring has no load to step) fails from q = 1
+        let mut q = [1.0];
         assert!(solve(&mut s, &mut ws, &mut q, &settings, 1).is_err());
-        // From q = 1 (x = −2) undamped Newton diverges too (the full step lands at
-        // x = −2 + atan(2)·5 = 3.54, where |atan| is larger), which the damped one now
-        // survives; the relaxation converges from there (not from q = −3, where its first
-        // diagonal K = 1/37 is too soft for 200 iterations).
-        let x0: f64 = -2.0;
-        assert!((x0 - x0.atan() * (1.0 + x0 * x0)).atan().abs() > x0.atan().abs());
         let mut q = [1.0];
         let st = relax(&mut s, &mut ws, &mut q, &settings, 200).unwrap();
         assert!((q[0] - 3.0).abs() < 1e-10, "q = {}", q[0]);

@@ -1299,6 +1299,7 @@ mod tests {
             tolerance: 1e-10,
             max_iterations: 30,
             policy: NewtonPolicy::Full,
+            line_search: false,
         };
         let mut ws = Workspace::new(m, SolverKind::Auto).unwrap();
         let n = m.n_free();

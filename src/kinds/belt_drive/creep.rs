@@ -205,6 +205,7 @@ impl CreepCase {
             tolerance: self.newton_tolerance,
             max_iterations: 25,
             policy: NewtonPolicy::Modified,
+            line_search: true,
         }
     }
 
