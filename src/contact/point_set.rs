@@ -364,33 +364,12 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
     /// Writes the committed loads on the obstacles ([`Self::loads`]), for a model whose
     /// outputs read them straight after a state is restored.
     pub fn save_loads(&self, w: &mut StateWriter) {
-        w.u64(self.loads.len() as u64);
-        for l in &self.loads {
-            for x in l.force.iter().chain(&l.generalized).chain(l.moment.iter()) {
-                w.f64(*x);
-            }
-            w.f64(l.side_force);
-        }
+        write_loads(&self.loads, w);
     }
 
     /// Reads loads written by [`Self::save_loads`].
     pub fn restore_loads(&mut self, r: &mut StateReader) -> Result<(), String> {
-        let e = |e: crate::snapshot::SnapshotError| e.to_string();
-        if r.u64().map_err(e)? as usize != self.loads.len() {
-            return Err("contact loads of other obstacles".into());
-        }
-        for l in self.loads.iter_mut() {
-            for x in l
-                .force
-                .iter_mut()
-                .chain(l.generalized.iter_mut())
-                .chain(l.moment.iter_mut())
-            {
-                *x = r.f64().map_err(e)?;
-            }
-            l.side_force = r.f64().map_err(e)?;
-        }
-        Ok(())
+        read_loads(&mut self.loads, r)
     }
 
     /// Reads histories written by [`Self::save`].
@@ -404,6 +383,40 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
         }
         Ok(())
     }
+}
+
+/// Writes obstacle loads (the committed loads of a contact set) to a state snapshot.
+pub(crate) fn write_loads<const D: usize>(loads: &[ObstacleLoad<D>], w: &mut StateWriter) {
+    w.u64(loads.len() as u64);
+    for l in loads {
+        for x in l.force.iter().chain(&l.generalized).chain(l.moment.iter()) {
+            w.f64(*x);
+        }
+        w.f64(l.side_force);
+    }
+}
+
+/// Reads obstacle loads written by [`write_loads`] into `loads` (same count).
+pub(crate) fn read_loads<const D: usize>(
+    loads: &mut [ObstacleLoad<D>],
+    r: &mut StateReader,
+) -> Result<(), String> {
+    let e = |e: crate::snapshot::SnapshotError| e.to_string();
+    if r.u64().map_err(e)? as usize != loads.len() {
+        return Err("contact loads of other obstacles".into());
+    }
+    for l in loads.iter_mut() {
+        for x in l
+            .force
+            .iter_mut()
+            .chain(l.generalized.iter_mut())
+            .chain(l.moment.iter_mut())
+        {
+            *x = r.f64().map_err(e)?;
+        }
+        l.side_force = r.f64().map_err(e)?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -41,7 +41,7 @@
 
 use super::circle_friction::ContactLaw;
 use super::obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
-use super::point_set::{ContactBook, ObstacleLoad};
+use super::point_set::{ContactBook, ObstacleLoad, read_loads, write_loads};
 use super::pulley3d::{Pulley3d, Pulley3dContact, Pulley3dHistory, evaluate_parts};
 use crate::assembly::Connectivity;
 use crate::elements::element::Frame;
@@ -420,33 +420,12 @@ impl SectionContactSet {
 
     /// Writes the committed loads on the pulleys ([`Self::loads`]).
     pub fn save_loads(&self, w: &mut StateWriter) {
-        w.u64(self.loads.len() as u64);
-        for l in &self.loads {
-            for x in l.force.iter().chain(&l.generalized).chain(l.moment.iter()) {
-                w.f64(*x);
-            }
-            w.f64(l.side_force);
-        }
+        write_loads(&self.loads, w);
     }
 
     /// Reads loads written by [`Self::save_loads`].
     pub fn restore_loads(&mut self, r: &mut StateReader) -> Result<(), String> {
-        let e = |e: crate::snapshot::SnapshotError| e.to_string();
-        if r.u64().map_err(e)? as usize != self.loads.len() {
-            return Err("contact loads of other obstacles".into());
-        }
-        for l in self.loads.iter_mut() {
-            for x in l
-                .force
-                .iter_mut()
-                .chain(l.generalized.iter_mut())
-                .chain(l.moment.iter_mut())
-            {
-                *x = r.f64().map_err(e)?;
-            }
-            l.side_force = r.f64().map_err(e)?;
-        }
-        Ok(())
+        read_loads(&mut self.loads, r)
     }
 }
 
