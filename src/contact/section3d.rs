@@ -46,6 +46,7 @@ use super::pulley3d::{Pulley3d, Pulley3dContact, Pulley3dHistory, evaluate_parts
 use crate::assembly::Connectivity;
 use crate::elements::element::Frame;
 use crate::elements::node_frames::NodeFrames;
+use crate::elements::quadrature::lobatto;
 use crate::elements::rotation::skew;
 use crate::model::JacobianCoeffs;
 use crate::snapshot::{StateReader, StateWriter};
@@ -54,39 +55,6 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 /// Coordinates of one (node, pulley) block: node position (3), node rotation vector (3),
 /// pulley angle (1).
 pub const SECTION_BLOCK: usize = 7;
-
-/// Gauss–Lobatto points `(ξ, ω)` on [−1, 1] for `n` = 2 … 5 points (both ends included,
-/// weights summing to 2); `n = 1`: the middle with weight 2. Abramowitz & Stegun, Table 25.6.
-pub fn lobatto(n: usize) -> &'static [(f64, f64)] {
-    const P1: [(f64, f64); 1] = [(0.0, 2.0)];
-    const P2: [(f64, f64); 2] = [(-1.0, 1.0), (1.0, 1.0)];
-    const P3: [(f64, f64); 3] = [(-1.0, 1.0 / 3.0), (0.0, 4.0 / 3.0), (1.0, 1.0 / 3.0)];
-    // ±1/√5
-    const A4: f64 = 0.447_213_595_499_958;
-    const P4: [(f64, f64); 4] = [
-        (-1.0, 1.0 / 6.0),
-        (-A4, 5.0 / 6.0),
-        (A4, 5.0 / 6.0),
-        (1.0, 1.0 / 6.0),
-    ];
-    // ±√(3/7)
-    const A5: f64 = 0.654_653_670_707_977_1;
-    const P5: [(f64, f64); 5] = [
-        (-1.0, 0.1),
-        (-A5, 49.0 / 90.0),
-        (0.0, 32.0 / 45.0),
-        (A5, 49.0 / 90.0),
-        (1.0, 0.1),
-    ];
-    match n {
-        1 => &P1,
-        2 => &P2,
-        3 => &P3,
-        4 => &P4,
-        5 => &P5,
-        _ => panic!("Gauss–Lobatto rule with {n} points: 1 to 5 are tabulated"),
-    }
-}
 
 /// One point across the section.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -41,13 +41,65 @@ pub fn gauss_legendre(n: usize) -> &'static [(f64, f64)] {
 /// Three-point Gauss–Lobatto rule on [-1, 1] (points −1, 0, 1; weights 1/3, 4/3, 1/3), exact for
 /// polynomials up to degree 3.
 pub fn lobatto3() -> &'static [(f64, f64)] {
-    const L3: [(f64, f64); 3] = [(-1.0, 1.0 / 3.0), (0.0, 4.0 / 3.0), (1.0, 1.0 / 3.0)];
-    &L3
+    lobatto(3)
+}
+
+/// Gauss–Lobatto points `(ξ, ω)` on [−1, 1] for `n` = 2 … 5 points (both ends included,
+/// weights summing to 2); `n = 1`: the middle with weight 2. Abramowitz & Stegun, Table 25.6.
+pub fn lobatto(n: usize) -> &'static [(f64, f64)] {
+    const P1: [(f64, f64); 1] = [(0.0, 2.0)];
+    const P2: [(f64, f64); 2] = [(-1.0, 1.0), (1.0, 1.0)];
+    const P3: [(f64, f64); 3] = [(-1.0, 1.0 / 3.0), (0.0, 4.0 / 3.0), (1.0, 1.0 / 3.0)];
+    // ±1/√5
+    const A4: f64 = 0.447_213_595_499_958;
+    const P4: [(f64, f64); 4] = [
+        (-1.0, 1.0 / 6.0),
+        (-A4, 5.0 / 6.0),
+        (A4, 5.0 / 6.0),
+        (1.0, 1.0 / 6.0),
+    ];
+    // ±√(3/7)
+    const A5: f64 = 0.654_653_670_707_977_1;
+    const P5: [(f64, f64); 5] = [
+        (-1.0, 0.1),
+        (-A5, 49.0 / 90.0),
+        (0.0, 32.0 / 45.0),
+        (A5, 49.0 / 90.0),
+        (1.0, 0.1),
+    ];
+    match n {
+        1 => &P1,
+        2 => &P2,
+        3 => &P3,
+        4 => &P4,
+        5 => &P5,
+        _ => panic!("Gauss–Lobatto rule with {n} points: 1 to 5 are tabulated"),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The Lobatto rules of 2 … 5 points integrate x^k exactly for k <= 2n − 3.
+    #[test]
+    fn lobatto_rules_are_exact_to_degree_2n_minus_3() {
+        for n in 2..=5 {
+            for k in 0..=(2 * n - 3) {
+                let exact = if k % 2 == 0 {
+                    2.0 / (k as f64 + 1.0)
+                } else {
+                    0.0
+                };
+                let sum: f64 = lobatto(n).iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
+                assert!(
+                    (sum - exact).abs() < 1e-14,
+                    "n = {n}, k = {k}: {sum} vs {exact}"
+                );
+            }
+        }
+        assert_eq!(lobatto(1), &[(0.0, 2.0)]);
+    }
 
     /// Lobatto 3 integrates x^k exactly for k <= 3.
     #[test]
