@@ -3,7 +3,7 @@ ObjectANCFCable2D belt with ObjectContactFrictionCircleCable2D contact on the sa
 EA 8000 N, pre-tension 400 N, mu 0.5, 120 elements, driver at 60 rad/s, load torques 4, 10, 20 N m),
 with flexfmu's automatic contact stiffnesses (x1) and 4x stiffer (x4), the same in both.
 
-Reference figures: pytests/data/belt_exudyn_reference.json, written by
+Reference figures: tests/data/belt_exudyn_reference.json, written by
 `python scripts/validate_belt_exudyn.py --write-reference` (Exudyn's version, the parameters and
 its wall times are recorded in it). The flexfmu side runs the belt_drive FMU through fmpy with the
 reference's parameters (about 1.5 s per case). Rerunning Exudyn itself takes about 60 s on the
@@ -38,7 +38,7 @@ sys.path.insert(0, str(ROOT / "scripts"))
 
 import validate_belt_exudyn as vbe  # noqa: E402
 
-REFERENCE = json.loads((ROOT / "pytests" / "data" / "belt_exudyn_reference.json").read_text())
+REFERENCE = json.loads((ROOT / "tests" / "data" / "belt_exudyn_reference.json").read_text())
 CASES = {f"x{c['parameters']['contact_scale']:g}": c for c in REFERENCE["cases"]}
 # relative tolerances per case: creep, driven speed (see the module docstring)
 CREEP_TOL = {"x1": (0.15, 3e-3), "x4": (0.05, 1e-3)}
