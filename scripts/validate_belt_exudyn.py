@@ -50,18 +50,18 @@ Measured 2026-11-24 (Exudyn 1.13.6, 120 elements, 1 ms; creep error in % of Gras
   x4       10     480.49   484.82   333.48   337.78   12.056   12.059     39.6396  39.6558    -1.5     -3.8
   x4       20     525.28   528.74   296.92   300.32   18.729   18.733     39.2567  39.2846    -0.8     -3.4
 
-The driver torque (0.15 %) and the tension difference (0.3 %) agree: both are the load and bearing
+The driver torque (0.15 %) and the tension difference (0.15 %) agree: both are the load and bearing
 torques. The rest differs, for these reasons (measured with the options below):
   * mean tension: Exudyn's belt is mounted at 400 N without the contact penetration and settles to
-    397 N at rest (flexfmu corrects its mounted length: 400.0 N); in motion its mean span tension
-    rises 2-6 N more than flexfmu's: at x1 the two offsets nearly cancel (within 1 N), at x4
-    Exudyn is 3.5-4.8 N above (with 4x less penetration it loses only ~1 N at rest);
+    397.0 N at rest (flexfmu corrects its mounted length: 400.0 N); in motion (4 N m) its mean span
+    tension rises 6.4 N, flexfmu's 2.5 N: at x1 the two offsets nearly cancel (within 1 N); at x4
+    (4x less penetration) Exudyn is 3.5-4.8 N above;
   * creep: flexfmu's is within -2.4..+2.6 % of Grashof's and does not depend on the mesh (60, 120,
-    240 elements, 2, 4, 8 contact points per element: within 0.3 % of the creep) or the step
+    240 elements, 2, 4, 8 contact points per element: within 0.4 % of the creep) or the step
     (0.5 ms: within 0.7 %); Exudyn's depends on the contact segment length only (60 elements x 8
     segments = 120 x 4 to 4 digits, 120 x 2 = 60 x 4): +5..+7 % at 6.9 mm segments, +10..+13 % at
     3.4 mm, +11..+15 % at 1.7 mm (240 x 4), and -3.4..-3.8 % with 4x the contact stiffness; its
-    velocity penalty (0 or 1e-4 s) and the step (0.5 ms) change it by < 1 %. A straight segment's
+    velocity penalty (0 or 1e-4 s) and the step (0.5 ms) change it by at most 1.1 %. A straight segment's
     chord sag l^2/(8 rho) moves the belt's radius on the pulleys with the same sign as the segment
     effect but about half its size; the rest is not isolated.
 
