@@ -30,7 +30,9 @@
 //! Rim-edge and flange-top cut-offs are discontinuous: a belt falling off the rim or jumping a
 //! flange is not a smooth event, and nothing is meant to run there.
 
-use super::circle_friction::{ContactLaw, smoothed_penalty, stick_slip, wrap_angle};
+use super::circle_friction::{
+    ContactLaw, bristle_factor, smoothed_penalty, stick_slip, wrap_angle,
+};
 use super::obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
 use crate::snapshot::{SnapshotError, StateReader, StateWriter};
 use nalgebra::{Matrix2, Matrix4, RowVector3, SVector, Vector2, Vector3};
@@ -318,7 +320,8 @@ fn rim(
     res.pressure = pr;
     res.slipping = cap <= 0.0 || ftr.norm() >= cap;
     res.z = if law.k_t > 0.0 {
-        [f[0] / law.k_t, f[1] / law.k_t]
+        let zt = (Vector2::from(hist.z) + ds) * bristle_factor(f.norm(), nf);
+        [zt[0], zt[1]]
     } else {
         [0.0; 2]
     };

@@ -20,7 +20,7 @@
 //! blended C¹ ([`super::circle_friction::stick_slip`]); force on the point `w (p n − f t)`.
 //! The hoop direction carries no slip by symmetry.
 
-use super::circle_friction::{ContactLaw, smoothed_penalty, stick_slip};
+use super::circle_friction::{ContactLaw, bristle_factor, smoothed_penalty, stick_slip};
 use super::obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
 use crate::snapshot::{SnapshotError, StateReader, StateWriter};
 use nalgebra::{Matrix3, Matrix4, SVector, Vector2, Vector3};
@@ -67,7 +67,7 @@ pub enum AxisymObstacle {
 pub struct SlideHistory {
     /// The point relative to the obstacle, `(r, z − z₀)`, at the last commit [m].
     pub rel: [f64; 2],
-    /// Bristle deflection `f/k_t` [m].
+    /// Bristle deflection (elastic part, [`bristle_factor`]) [m].
     pub z: f64,
     /// Friction stress `f` [N/m²] (for the work over the next step).
     pub f: f64,
@@ -116,7 +116,7 @@ pub struct AxisymContact {
     pub friction: f64,
     /// Slip over the step `Δs` [m].
     pub slip_increment: f64,
-    /// Bristle deflection `f/k_t` [m].
+    /// Bristle deflection (elastic part, [`bristle_factor`]) [m].
     z: f64,
     /// Whether the point slides.
     slipping: bool,
@@ -264,7 +264,7 @@ impl Obstacle<2> for AxisymObstacle {
             friction = cap * ph;
             slipping = f_trial.abs() >= cap;
             z = if law.k_t > 0.0 {
-                friction / law.k_t
+                bristle_factor(friction.abs(), f_trial.abs()) * (hist.z + ds)
             } else {
                 0.0
             };
@@ -318,7 +318,7 @@ impl Obstacle<2> for AxisymObstacle {
 pub struct SlideHistory3 {
     /// The point relative to the obstacle, `(x, y, z − z₀)`, at the last commit [m].
     pub rel: [f64; 3],
-    /// Bristle deflection `f/k_t` [m].
+    /// Bristle deflection (elastic part, [`bristle_factor`]) [m].
     pub z: [f64; 3],
     /// Friction stress `f` [N/m²].
     pub f: [f64; 3],
@@ -358,7 +358,7 @@ pub struct RevolutionContact {
     pub friction: Vector3<f64>,
     /// Slip over the step `Δs` (in the tangent plane) [m].
     pub slip_increment: Vector3<f64>,
-    /// Bristle deflection `f/k_t` [m].
+    /// Bristle deflection (elastic part, [`bristle_factor`]) [m].
     bristle: Vector3<f64>,
     /// Whether the point slides.
     slipping: bool,
@@ -601,7 +601,7 @@ fn friction3(
         f,
         ds,
         bristle: if law.k_t > 0.0 {
-            f / law.k_t
+            proj(&a) * bristle_factor(f.norm(), m)
         } else {
             Vector3::zeros()
         },

@@ -16,10 +16,10 @@ pub struct NewtonSettings {
     pub policy: NewtonPolicy,
     /// Damped Newton: backtrack a full-Newton increment that raises the residual norm (see
     /// [`solve`]). Set for the models that ask for it
-    /// ([`crate::model::MechanicalSystem::damped_newton`]): on the serpentine belt drive it
-    /// breaks the cycles of contact points changing state; on the 3D belt's quarter-twist
-    /// drive it moved the energy balance from −0.3 % to 3.4 % (session 25), so it is not
-    /// on for every model.
+    /// ([`crate::model::MechanicalSystem::damped_newton`]: the planar and 3D belt drives,
+    /// where it breaks the cycles of contact points changing state). Not on for every model:
+    /// a backtracked increment moves the converged state within the Newton tolerance, and
+    /// the other kinds' references (`compat/`) were computed without it.
     pub line_search: bool,
 }
 
