@@ -18,11 +18,16 @@
 //!   `F_n = w p ∇g`, `∇g = e − R'(ζ) a` (so a crowned rim pushes a point down its slope,
 //!   conservative), `p = p_e(δ) − d_n ġ s(δ)`, `δ = −g`, `ġ = v·∇g`;
 //! * rim friction in the surface basis `(t, a)`: slip increment since the last accepted step
-//!   `Δs = (ρ (Δφ − Δθ), Δζ)`, slip rate `ṡ = (v·t − ω ρ, v·a)`, trial
+//!   `Δs = (ρ Δφ − R(ζ) Δθ, Δζ)`, slip rate `ṡ = (v·t − ω R(ζ), v·a)`: the belt sticks when
+//!   its centre line moves at the pitch surface's speed `ω R(ζ)`, whatever the penalty
+//!   penetration (as the planar kernel: slip at the penetrated radius `ρ` makes a stuck belt
+//!   run at `ω ρ` and shifts the creep by `δ/R`); trial
 //!   `f* = k_t (z_n + Δs) + d_t ṡ` (a 2-vector), return mapping on its length:
-//!   `f = μ p φ(|f*|/(μ p)) f*/|f*|` with the C¹ blend `φ` of [`stick_slip`]; force on the belt
-//!   `−w (f₁ t + f₂ a)`, torque on the pulley about its axis `τ = ρ w f₁` (the axial component
-//!   has no moment about the axis);
+//!   `f = μ p φ(|f*|/(μ p)) f*/|f*|` with the C¹ blend `φ` of [`stick_slip`]; new bristle
+//!   `z = (|f|/|f*|)(z_n + Δs)` ([`bristle_factor`]); force on the belt `−w (f₁ t + f₂ a)`,
+//!   torque on the pulley about its axis `τ = R(ζ) w f₁` (the pitch surface's arm, so that the
+//!   friction work `−w f·Δs` is what belt and pulley lose; the axial component has no moment
+//!   about the axis);
 //! * flanges (height `h_f` > 0): at `ζ = ±h` the belt edge `ζ ± b` meets the flange face
 //!   while `ρ` is below the flange top; penetration `δ_f = ±ζ + b − h`, frictionless normal
 //!   force `∓ w p_f a` with the same smoothed penalty.
@@ -250,21 +255,22 @@ fn rim(
     // slip increment and rate in (t, a)
     let dphi = wrap_angle(phi - hist.phi);
     let dtheta = theta - hist.theta;
-    let ds = Vector2::new(rho * (dphi - dtheta), zeta - hist.zeta);
-    let sdot = Vector2::new(vt - omega * rho, va);
+    let ds = Vector2::new(rho * dphi - rz * dtheta, zeta - hist.zeta);
+    let sdot = Vector2::new(vt - omega * rz, va);
     let ftr = law.k_t * (Vector2::from(hist.z) + ds) + law.d_t * sdot;
     // rows of ∂f*/∂(d, θ) and ∂f*/∂(v, ω)
     let mut dftr_dd = nalgebra::Matrix2x3::zeros();
     let mut dftr_dv = nalgebra::Matrix2x3::zeros();
     dftr_dd.set_row(
         0,
-        &(law.k_t * ((dphi - dtheta) * et + tt) + law.d_t * (-(ve / rho) * tt - omega * et)),
+        &(law.k_t * (dphi * et + tt - (dtheta * drz) * at)
+            + law.d_t * (-(ve / rho) * tt - (omega * drz) * at)),
     );
     dftr_dd.set_row(1, &(law.k_t * at));
     dftr_dv.set_row(0, &(law.d_t * tt));
     dftr_dv.set_row(1, &(law.d_t * at));
-    let dftr_dth = Vector2::new(-law.k_t * rho, 0.0);
-    let dftr_dom = Vector2::new(-law.d_t * rho, 0.0);
+    let dftr_dth = Vector2::new(-law.k_t * rz, 0.0);
+    let dftr_dom = Vector2::new(-law.d_t * rz, 0.0);
 
     // return mapping: f = cap φ(x) f*/|f*|, x = |f*|/cap
     let cap = law.mu * pr;
@@ -292,7 +298,7 @@ fn rim(
 
     // F = w p ∇g − w f₁ t − w f₂ a; τ = ρ w f₁
     let force = (w * pr) * ng - (w * f[0]) * t - (w * f[1]) * a;
-    let torque = rho * w * f[0];
+    let torque = rz * w * f[0];
     // ∂∇g/∂d = t tᵀ/ρ − R'' a aᵀ; ∂t/∂d = −e tᵀ/ρ
     let k_dd = w * ng * dp_dd + (w * pr) * (t * tt / rho - ddrz * a * at) - w * t * df_dd.row(0)
         + (w * f[0] / rho) * e * tt
@@ -300,8 +306,8 @@ fn rim(
     let k_dth = -w * t * df_dth[0] - w * a * df_dth[1];
     let c_dv = w * ng * dp_dv - w * t * df_dv.row(0) - w * a * df_dv.row(1);
     let c_dom = -w * t * df_dom[0] - w * a * df_dom[1];
-    let tq_dd = (w * f[0]) * et + (rho * w) * df_dd.row(0);
-    let tq_dv = (rho * w) * df_dv.row(0);
+    let tq_dd = (w * f[0] * drz) * at + (rz * w) * df_dd.row(0);
+    let tq_dv = (rz * w) * df_dv.row(0);
     for i in 0..3 {
         for j in 0..3 {
             res.k[(i, j)] += k_dd[(i, j)];
@@ -312,8 +318,8 @@ fn rim(
         res.k[(3, i)] += tq_dd[i];
         res.c[(3, i)] += tq_dv[i];
     }
-    res.k[(3, 3)] += rho * w * df_dth[0];
-    res.c[(3, 3)] += rho * w * df_dom[0];
+    res.k[(3, 3)] += rz * w * df_dth[0];
+    res.c[(3, 3)] += rz * w * df_dom[0];
 
     res.force += force;
     res.torque += torque;
@@ -731,20 +737,21 @@ mod tests {
         check(&p, m2, 0.0, 1.0, h2, true);
     }
 
-    /// Pure rolling at pitch radius in the pulley's plane: no friction, the force is the
-    /// normal pressure only, radial; no moment about the axis.
+    /// Pure rolling of the pitch line in the pulley's plane (the penetrated point moves at
+    /// `ω R`, `ρ Δφ = R Δθ`): no friction, the force is the normal pressure only, radial; no
+    /// moment about the axis.
     #[test]
     fn pure_rolling_has_no_friction() {
         let p = pulley(0.0);
         let (th0, th1) = (0.2, 0.25);
         let (phi0, omega, rho) = (1.0, 5.0, 0.1 - 1e-5);
-        let phi1 = phi0 + (th1 - th0);
+        let phi1 = phi0 + (th1 - th0) * p.radius / rho;
         let r = at(&p, phi1, rho, 0.003);
         let e = (r - p.center - 0.003 * p.axis).normalize();
         let t = p.axis.cross(&e);
         let m = PointMotion {
             r,
-            v: omega * rho * t,
+            v: omega * p.radius * t,
         };
         let h = Pulley3dHistory {
             phi: phi0,
@@ -762,7 +769,7 @@ mod tests {
     }
 
     /// Sliding along a diagonal of the surface: friction = μ × normal force, opposed to the
-    /// slip; torque = ρ × circumferential friction force.
+    /// slip; torque = pitch radius R × circumferential friction force.
     #[test]
     fn sliding_force_is_mu_times_normal_force_against_the_slip() {
         let p = pulley(0.0);
@@ -791,7 +798,7 @@ mod tests {
             res.force.dot(&t)
         );
         assert!((res.force.dot(&p.axis) + ft).abs() < 1e-9);
-        assert!((res.torque - rho * ft).abs() < 1e-9);
+        assert!((res.torque - p.radius * ft).abs() < 1e-9);
         // off the rim (beyond h + b) of a pulley without flanges: nothing; with flanges the
         // flange holds it; above the surface: nothing
         let bare = Pulley3d {
