@@ -355,10 +355,7 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
 
     /// Writes the histories into a snapshot.
     pub fn save(&self, w: &mut StateWriter) {
-        w.u64(self.hist.len() as u64);
-        for h in &self.hist {
-            h.save(w);
-        }
+        write_histories(&self.hist, w);
     }
 
     /// Writes the committed loads on the obstacles ([`Self::loads`]), for a model whose
@@ -374,15 +371,31 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
 
     /// Reads histories written by [`Self::save`].
     pub fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
-        let e = |e: crate::snapshot::SnapshotError| e.to_string();
-        if r.u64().map_err(e)? as usize != self.hist.len() {
-            return Err("contact history of another mesh".into());
-        }
-        for h in self.hist.iter_mut() {
-            *h = O::History::restore(r).map_err(e)?;
-        }
-        Ok(())
+        read_histories(&mut self.hist, r)
     }
+}
+
+/// Writes contact histories (of a point set or a section set) to a state snapshot.
+pub(crate) fn write_histories<H: ContactHistory>(hist: &[H], w: &mut StateWriter) {
+    w.u64(hist.len() as u64);
+    for h in hist {
+        h.save(w);
+    }
+}
+
+/// Reads histories written by [`write_histories`] into `hist` (same count).
+pub(crate) fn read_histories<H: ContactHistory>(
+    hist: &mut [H],
+    r: &mut StateReader,
+) -> Result<(), String> {
+    let e = |e: crate::snapshot::SnapshotError| e.to_string();
+    if r.u64().map_err(e)? as usize != hist.len() {
+        return Err("contact history of another mesh".into());
+    }
+    for h in hist.iter_mut() {
+        *h = H::restore(r).map_err(e)?;
+    }
+    Ok(())
 }
 
 /// Writes obstacle loads (the committed loads of a contact set) to a state snapshot.

@@ -40,8 +40,10 @@
 //! in the tests below.
 
 use super::circle_friction::ContactLaw;
-use super::obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
-use super::point_set::{ContactBook, ObstacleLoad, read_loads, write_loads};
+use super::obstacle::{Obstacle, ObstacleContact, PointMotion};
+use super::point_set::{
+    ContactBook, ObstacleLoad, read_histories, read_loads, write_histories, write_loads,
+};
 use super::pulley3d::{Pulley3d, Pulley3dContact, Pulley3dHistory, evaluate_parts};
 use crate::assembly::Connectivity;
 use crate::elements::element::Frame;
@@ -368,22 +370,12 @@ impl SectionContactSet {
 
     /// Writes the histories into a snapshot.
     pub fn save(&self, w: &mut StateWriter) {
-        w.u64(self.hist.len() as u64);
-        for h in &self.hist {
-            h.save(w);
-        }
+        write_histories(&self.hist, w);
     }
 
     /// Reads histories written by [`Self::save`].
     pub fn restore(&mut self, r: &mut StateReader) -> Result<(), String> {
-        let e = |e: crate::snapshot::SnapshotError| e.to_string();
-        if r.u64().map_err(e)? as usize != self.hist.len() {
-            return Err("contact history of another mesh".into());
-        }
-        for h in self.hist.iter_mut() {
-            *h = Pulley3dHistory::restore(r).map_err(e)?;
-        }
-        Ok(())
+        read_histories(&mut self.hist, r)
     }
 
     /// Writes the committed loads on the pulleys ([`Self::loads`]).
