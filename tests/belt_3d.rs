@@ -737,52 +737,64 @@ fn crowned_pulley_centres_the_belt() {
     assert!(drift < 5e-5, "flat rim: the offset moved by {drift} m");
 }
 
-/// Flange force (exploration, prints, asserts nothing): pulley 2 skewed by 0.03 rad walks
-/// the belt onto its flange; prints the flange force's mean, largest value and standard
-/// deviation over 1.0–1.3 s with the centre-line contact and with 3 points across the width
-/// (the belt's edges meet the flange).
+/// The flange stops the walk (issue 13 item 4): pulley 2 of `belt_drive_3d` skewed by
+/// 0.03 rad walks the belt onto its flange (rim half width h = 20 mm, belt half width
+/// b = 15 mm: the edge meets the flange at `belt2.lateral` = −(h − b) = −5 mm), with the
+/// default contact across the width; pulley 1 ramped to 10 rad/s over 0.1 s, no load, 1 ms,
+/// 1.3 s. Checked: the belt ends on the flange (within 0.3 mm of −5 mm) and
+/// never rides over it (never beyond −5.5 mm); over 1.0–1.3 s the flange pushes it back
+/// (`pulley2.flange_force`, the belt's axial force on the flanges, has the walk's sign and a
+/// mean of at least 1 N) and stays below what friction on the rim can push sideways,
+/// μ (T1 + T2) (the rim's normal force on a 180° wrap, the pre-tension 300 N in both spans).
+/// Measured (session 26): lateral −4.961 mm, flange force mean −14.4 N, standard deviation
+/// 9.1 N, largest 43.8 N. With the centre-line contact alone (`contact.width_points` = 1) the
+/// single edge point made spikes of 331 N (before session 26's bristle it jumped the flange
+/// top at 1828 N). Riding the flange is not smooth (the flange face's penalty acts on the
+/// edge points only): 76 of 1459 steps failed Newton and were halved (not asserted on).
 #[test]
-#[ignore = "exploration: prints the flange force, no check"]
-fn flange_force_exploration() {
+fn walked_belt_rides_the_flange() {
     let scene = common::scene("belt_drive_3d");
-    for width in [1, 3] {
-        let mut sim = common::simulation(
-            &scene,
-            &[
-                ("pulley2.skew", Value::Real(0.03)),
-                ("contact.width_points", Value::Integer(width)),
-            ],
-        )
-        .unwrap();
-        let (ia, iw) = (
-            common::input_index(&scene, "pulley1.angle"),
-            common::input_index(&scene, "pulley1.omega"),
+    let mut sim = common::simulation(&scene, &[("pulley2.skew", Value::Real(0.03))]).unwrap();
+    let (ia, iw) = (
+        common::input_index(&scene, "pulley1.angle"),
+        common::input_index(&scene, "pulley1.omega"),
+    );
+    let (h, omega, ramp) = (1e-3, 10.0, 0.1);
+    let (flange_at, mu, pretension) = (-0.005, 0.4, 300.0);
+    let mut angle = 0.0;
+    let mut f = vec![];
+    let mut lateral: f64 = 0.0;
+    for i in 0..1300 {
+        let t = i as f64 * h;
+        let r = |t: f64| (t / ramp).min(1.0);
+        let w = 0.5 * omega * (r(t) + r(t + h));
+        sim.set_input(ia, angle);
+        sim.set_input(iw, w);
+        sim.advance(t + h)
+            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
+        angle += w * h;
+        lateral = common::output(&scene, &sim, "belt2.lateral");
+        assert!(
+            lateral > flange_at - 5e-4,
+            "t = {t}: over the flange, lateral {lateral}"
         );
-        let (h, omega, ramp) = (1e-3, 10.0, 0.1);
-        let mut angle = 0.0;
-        let mut f = vec![];
-        for i in 0..1300 {
-            let t = i as f64 * h;
-            let r = |t: f64| (t / ramp).min(1.0);
-            let w = 0.5 * omega * (r(t) + r(t + h));
-            sim.set_input(ia, angle);
-            sim.set_input(iw, w);
-            sim.advance(t + h)
-                .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
-            angle += w * h;
-            if t >= 1.0 {
-                f.push(common::output(&scene, &sim, "pulley2.flange_force"));
-            }
+        if t >= 1.0 {
+            f.push(common::output(&scene, &sim, "pulley2.flange_force"));
         }
-        let n = f.len() as f64;
-        let mean = f.iter().sum::<f64>() / n;
-        let sd = (f.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
-        let peak = f.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        println!(
-            "width_points {width}: pulley2.flange_force over 1.0-1.3 s mean {mean:.2} N, largest |F| {peak:.2} N, standard deviation {sd:.2} N, belt2.lateral {:.3} mm",
-            1e3 * common::output(&scene, &sim, "belt2.lateral")
-        );
     }
+    let s = sim.stats();
+    println!("flange run: {s:?}");
+    let n = f.len() as f64;
+    let mean = f.iter().sum::<f64>() / n;
+    let sd = (f.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
+    let peak = f.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    println!(
+        "flange: belt2.lateral {:.3} mm, pulley2.flange_force over 1.0-1.3 s mean {mean:.2} N, standard deviation {sd:.2} N, largest {peak:.2} N",
+        1e3 * lateral
+    );
+    assert!((lateral - flange_at).abs() < 3e-4, "lateral {lateral}");
+    assert!(mean < -1.0, "mean flange force {mean}");
+    assert!(peak < mu * 2.0 * pretension, "largest flange force {peak}");
 }
 
 /// Quarter-twist drive (`scenes/conveyor_twist.toml`, issue 13): pre-loaded from the mount
