@@ -488,42 +488,28 @@ fn skewed_pulley_walks_the_belt_onto_the_flange() {
         &[(param.as_str(), Value::Real(skew)), width_points()],
     )
     .unwrap();
-    let (ia, iw) = (
-        common::input_index(&scene, "pulley1.angle"),
-        common::input_index(&scene, "pulley1.omega"),
-    );
-    let (h, omega, ramp) = (1e-3, 10.0, 0.1);
     let out = |sim: &Simulation, name: &str| common::output(&scene, sim, name);
-    let mut angle = 0.0;
     let mut trace = vec![];
-    for i in 0..500 {
-        let t = i as f64 * h;
-        let r = |t: f64| (t / ramp).min(1.0);
-        let w = 0.5 * omega * (r(t) + r(t + h));
-        sim.set_input(ia, angle);
-        sim.set_input(iw, w);
-        sim.advance(t + h)
-            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
-        angle += w * h;
+    drive_ramped(&scene, &mut sim, 500, 0.0, |sim, t, i| {
         trace.push((
-            t + h,
-            out(&sim, "belt2.lateral"),
-            out(&sim, "belt.speed"),
-            out(&sim, "pulley2.flange_force"),
+            t,
+            out(sim, "belt2.lateral"),
+            out(sim, "belt.speed"),
+            out(sim, "pulley2.flange_force"),
         ));
         if i % 100 == 99 {
             println!(
                 "t = {:.2} s: belt2.lateral = {:+.3} mm, belt1.lateral = {:+.3} mm, belt.speed {:.3} m/s, pulley2.flange_force {:.2} N, pulley2.force_z {:.3} N, pulley2.moment_x {:.4} N m",
-                t + h,
+                t,
                 1e3 * trace.last().unwrap().1,
-                1e3 * out(&sim, "belt1.lateral"),
+                1e3 * out(sim, "belt1.lateral"),
                 trace.last().unwrap().2,
                 trace.last().unwrap().3,
-                out(&sim, "pulley2.force_z"),
-                out(&sim, "pulley2.moment_x"),
+                out(sim, "pulley2.force_z"),
+                out(sim, "pulley2.moment_x"),
             );
         }
-    }
+    });
     // walking rate over 0.2-0.4 s (after the ramp, before the flange)
     let at = |t: f64| {
         trace
@@ -550,6 +536,40 @@ fn skewed_pulley_walks_the_belt_onto_the_flange() {
     );
 }
 
+/// Drives `belt_drive_3d` (`scene`, `sim`) for `steps` steps of 1 ms: pulley 1 ramped to
+/// 10 rad/s over 0.1 s, the load torque on pulley 2 ramped to `load` [N m] with it (0: the
+/// input is left alone); calls `each(sim, t, i)` after every step (`t` the time reached, `i`
+/// the step's index).
+fn drive_ramped(
+    scene: &flexfmu::scene::Scene,
+    sim: &mut Simulation,
+    steps: usize,
+    load: f64,
+    mut each: impl FnMut(&Simulation, f64, usize),
+) {
+    let (ia, iw) = (
+        common::input_index(scene, "pulley1.angle"),
+        common::input_index(scene, "pulley1.omega"),
+    );
+    let it = (load != 0.0).then(|| common::input_index(scene, "pulley2.torque_in"));
+    let (h, omega, ramp) = (1e-3, 10.0, 0.1);
+    let mut angle = 0.0;
+    for i in 0..steps {
+        let t = i as f64 * h;
+        let r = |t: f64| (t / ramp).min(1.0);
+        let w = 0.5 * omega * (r(t) + r(t + h));
+        sim.set_input(ia, angle);
+        sim.set_input(iw, w);
+        if let Some(it) = it {
+            sim.set_input(it, -load * r(t));
+        }
+        sim.advance(t + h)
+            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
+        angle += w * h;
+        each(sim, t + h, i);
+    }
+}
+
 /// `contact.width_points` of the shipped scenes' tests: the scene's default, or
 /// `BELT3D_WIDTH_POINTS` to measure them with another count.
 fn width_points() -> (&'static str, Value) {
@@ -572,30 +592,16 @@ fn width_points() -> (&'static str, Value) {
 fn lateral_trace(params: &[(&str, Value)], steps: usize) -> Vec<[f64; 4]> {
     let scene = common::scene("belt_drive_3d");
     let mut sim = common::simulation(&scene, params).unwrap();
-    let (ia, iw) = (
-        common::input_index(&scene, "pulley1.angle"),
-        common::input_index(&scene, "pulley1.omega"),
-    );
-    let (h, omega, ramp) = (1e-3, 10.0, 0.1);
     let out = |sim: &Simulation, name: &str| common::output(&scene, sim, name);
-    let mut angle = 0.0;
     let mut trace = vec![];
-    for i in 0..steps {
-        let t = i as f64 * h;
-        let r = |t: f64| (t / ramp).min(1.0);
-        let w = 0.5 * omega * (r(t) + r(t + h));
-        sim.set_input(ia, angle);
-        sim.set_input(iw, w);
-        sim.advance(t + h)
-            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
-        angle += w * h;
+    drive_ramped(&scene, &mut sim, steps, 0.0, |sim, t, _| {
         trace.push([
-            t + h,
-            out(&sim, "belt2.lateral"),
-            out(&sim, "belt1.lateral"),
-            out(&sim, "belt.speed"),
+            t,
+            out(sim, "belt2.lateral"),
+            out(sim, "belt1.lateral"),
+            out(sim, "belt.speed"),
         ]);
-    }
+    });
     if std::env::var("BELT3D_DIAG").is_ok() {
         // node by node: position, width direction's radial component about pulley 2
         let m = sim.model_as::<Belt3d>().unwrap();
@@ -755,33 +761,19 @@ fn crowned_pulley_centres_the_belt() {
 fn walked_belt_rides_the_flange() {
     let scene = common::scene("belt_drive_3d");
     let mut sim = common::simulation(&scene, &[("pulley2.skew", Value::Real(0.03))]).unwrap();
-    let (ia, iw) = (
-        common::input_index(&scene, "pulley1.angle"),
-        common::input_index(&scene, "pulley1.omega"),
-    );
-    let (h, omega, ramp) = (1e-3, 10.0, 0.1);
     let (flange_at, mu, pretension) = (-0.005, 0.4, 300.0);
-    let mut angle = 0.0;
     let mut f = vec![];
     let mut lateral: f64 = 0.0;
-    for i in 0..1300 {
-        let t = i as f64 * h;
-        let r = |t: f64| (t / ramp).min(1.0);
-        let w = 0.5 * omega * (r(t) + r(t + h));
-        sim.set_input(ia, angle);
-        sim.set_input(iw, w);
-        sim.advance(t + h)
-            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
-        angle += w * h;
-        lateral = common::output(&scene, &sim, "belt2.lateral");
+    drive_ramped(&scene, &mut sim, 1300, 0.0, |sim, t, _| {
+        lateral = common::output(&scene, sim, "belt2.lateral");
         assert!(
             lateral > flange_at - 5e-4,
             "t = {t}: over the flange, lateral {lateral}"
         );
-        if t >= 1.0 {
-            f.push(common::output(&scene, &sim, "pulley2.flange_force"));
+        if t > 1.0 + 1e-9 {
+            f.push(common::output(&scene, sim, "pulley2.flange_force"));
         }
-    }
+    });
     let s = sim.stats();
     println!("flange run: {s:?}");
     let n = f.len() as f64;
@@ -952,24 +944,7 @@ fn quarter_twist_drive_carries_torque() {
 fn start_from_rest_has_no_failed_steps() {
     let scene = common::scene("belt_drive_3d");
     let mut sim = common::simulation(&scene, &[]).unwrap();
-    let (ia, iw, it) = (
-        common::input_index(&scene, "pulley1.angle"),
-        common::input_index(&scene, "pulley1.omega"),
-        common::input_index(&scene, "pulley2.torque_in"),
-    );
-    let (h, omega, ramp) = (1e-3, 10.0, 0.1);
-    let mut angle = 0.0;
-    for i in 0..200 {
-        let t = i as f64 * h;
-        let r = |t: f64| (t / ramp).min(1.0);
-        let w = 0.5 * omega * (r(t) + r(t + h));
-        sim.set_input(ia, angle);
-        sim.set_input(iw, w);
-        sim.set_input(it, -5.0 * r(t));
-        sim.advance(t + h)
-            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
-        angle += w * h;
-    }
+    drive_ramped(&scene, &mut sim, 200, 5.0, |_, _, _| {});
     let s = sim.stats();
     assert_eq!(s.rejected - s.rejected_error, 0, "Newton failures: {s:?}");
     // pulley 2 follows the driver at the ratio of the radii, still settling 0.1 s after the
