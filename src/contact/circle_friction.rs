@@ -375,8 +375,8 @@ mod tests {
         circle().center + rho * Vector2::new(angle.cos(), angle.sin())
     }
 
-    #[test]
-    fn stick_tangent_matches_finite_differences() {
+    /// A point that sticks while it slides slowly on the rim (slip rate ≠ 0).
+    fn sticking() -> (PointState, PointHistory) {
         let s = PointState {
             r: at(0.7, 0.1 - 2e-5),
             v: Vector2::new(-0.3, 0.2),
@@ -389,6 +389,12 @@ mod tests {
             z: 1e-7,
             f: 0.0,
         };
+        (s, h)
+    }
+
+    #[test]
+    fn stick_tangent_matches_finite_differences() {
+        let (s, h) = sticking();
         check_jacobians(s, h, false);
     }
 
@@ -562,18 +568,7 @@ mod tests {
     #[test]
     fn committed_bristle_is_the_spring_deflection() {
         let law = law();
-        let stick = PointState {
-            r: at(0.7, 0.1 - 2e-5),
-            v: Vector2::new(-0.3, 0.2),
-            theta: 0.31,
-            omega: 4.0,
-        };
-        let h = PointHistory {
-            phi: 0.7 - 1e-4,
-            theta: 0.3101,
-            z: 1e-7,
-            f: 0.0,
-        };
+        let (stick, h) = sticking();
         let r = evaluate(&law, &circle(), 4e-3, &stick, &h).unwrap();
         assert!(!r.slipping && r.slip_rate.abs() > 1e-3, "{r:?}");
         assert!((r.z - (h.z + r.slip_increment)).abs() <= 1e-15);
