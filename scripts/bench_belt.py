@@ -37,8 +37,11 @@ held at rest (a velocity-level CoordinateConstraint takes `offsetUserFunction_t`
 driver at 60 rad/s). The like-for-like comparison of the two models is
 scripts/validate_belt_exudyn.py.
 
+The 3D belt of the same drive (`belt_drive_3d`, co-rotational elements, contact across the
+width) runs the same protocol at --elements-3d (issue 13 item 5: real time at 120 elements).
+
 Usage: python scripts/bench_belt.py [--elements 16 25 50 100 120 200 400] [--t-end 1.0]
-       [--soft-elements 120] [--serpentine-t-end 0.5] [--exudyn-t-end 10] [--no-exudyn]
+       [--soft-elements 120] [--elements-3d 60 120 240] [--serpentine-t-end 0.5] [--exudyn-t-end 10] [--no-exudyn]
        [--exudyn-layout]
 Writes build/bench/belt.csv and build/bench/belt.png.
 """
@@ -73,10 +76,12 @@ SOFT = {"belt.EA": 8000.0, "belt.pretension": 400.0, "contact.mu": 0.5}
 
 
 def run_flexfmu(n_el, t_end, h=1e-3, case="belt_drive"):
-    """The shipped drive (case `belt_drive`) or the soft belt (`soft`) over the drive's protocol."""
+    """The shipped drive (case `belt_drive`), the soft belt (`soft`) or the 3D belt of the same
+    drive (`belt_drive_3d`, issue 13 item 5) over the drive's protocol."""
     start = time.perf_counter()
     params = {"belt.n_elements": n_el, **(SOFT if case == "soft" else {})}
-    fmu = Fmu(ROOT / "build" / "fmus" / "belt_drive.fmu", params)
+    scene = "belt_drive_3d" if case == "belt_drive_3d" else "belt_drive"
+    fmu = Fmu(ROOT / "build" / "fmus" / f"{scene}.fmu", params)
     init = time.perf_counter() - start
     try:
         t0 = time.perf_counter()
@@ -302,7 +307,7 @@ def plot(rows, path):
     drive = sorted((r["elements"], r["rtf"]) for r in rows if r["case"] == "belt_drive")
     if drive:
         ax.loglog(*zip(*drive), "o-", label="belt_drive (fmpy, 1 ms)")
-    for case, marker in (("soft", "s"), ("serpentine", "^")):
+    for case, marker in (("soft", "s"), ("serpentine", "^"), ("belt_drive_3d", "D-")):
         pts = [(r["elements"], r["rtf"]) for r in rows if r["case"] == case]
         if pts:
             ax.loglog(*zip(*pts), marker, markersize=8, label=f"{case} (fmpy, 1 ms)")
@@ -326,10 +331,12 @@ def plot(rows, path):
 
 def main():
     ap = argparse.ArgumentParser(description="belt-drive real-time factor against Exudyn's test model")
-    ap.add_argument("--elements", type=int, nargs="+", default=[16, 25, 50, 100, 120, 200, 400])
+    ap.add_argument("--elements", type=int, nargs="*", default=[16, 25, 50, 100, 120, 200, 400])
     ap.add_argument("--t-end", type=float, default=1.0, help="simulated time of the belt_drive and soft runs [s]")
     ap.add_argument("--soft-elements", type=int, nargs="*", default=[120])
     ap.add_argument("--serpentine-elements", type=int, nargs="*", default=[120])
+    ap.add_argument("--elements-3d", type=int, nargs="*", default=[60, 120, 240],
+                    help="element counts of the 3D belt (belt_drive_3d, same drive and protocol)")
     ap.add_argument("--serpentine-t-end", type=float, default=0.5)
     ap.add_argument("--exudyn-t-end", type=float, default=10.0,
                     help="simulated time of Exudyn's test model [s] (its own end time: 10 s)")
@@ -346,6 +353,7 @@ def main():
     print(header, flush=True)
     runs = [("belt_drive", n) for n in args.elements] + [("soft", n) for n in args.soft_elements]
     runs += [("serpentine", n) for n in args.serpentine_elements]
+    runs += [("belt_drive_3d", n) for n in args.elements_3d]
     if not args.no_exudyn:
         runs.append(("exudyn", 128))
     if args.exudyn_layout:
@@ -353,7 +361,7 @@ def main():
     rows = []
     for case, n in runs:
         try:
-            if case in ("belt_drive", "soft"):
+            if case in ("belt_drive", "soft", "belt_drive_3d"):
                 r = run_flexfmu(n, args.t_end, case=case)
             elif case == "serpentine":
                 r = run_serpentine(n, args.serpentine_t_end)
