@@ -146,6 +146,8 @@ pub struct Belt3d {
     /// Angles [rad] at which free pulleys are held by a stiff bearing spring during static
     /// solves (as the planar drive: a free pulley the belt does not touch is a mechanism).
     held: Option<Vec<f64>>,
+    /// Whether time steps start from the transport predictor ([`MechanicalSystem::predict`]).
+    transport_predictor: bool,
 }
 
 /// Input work and dissipation since the start [J], their rates at the last commit [W], and
@@ -371,6 +373,7 @@ impl Belt3d {
             energy: EnergyBook::default(),
             preload_iterations: 0,
             held: None,
+            transport_predictor: true,
         };
         me.signals = me
             .spec
@@ -410,6 +413,19 @@ impl Belt3d {
         .with_bowing(self.spec.bowing);
         self.set.set_elements(vec![el]);
         self.contact.set_length(l);
+    }
+
+    /// Switches the transport predictor of the time steps on or off (default on; see
+    /// [`MechanicalSystem::predict`] for this model). The converged steps agree within the
+    /// Newton tolerance either way; the predictor saves iterations.
+    pub fn set_transport_predictor(&mut self, on: bool) {
+        self.transport_predictor = on;
+    }
+
+    /// Orientation `R_ref exp(θ̃)` of node `k` for the full coordinates `full`.
+    fn node_orientation(&self, k: usize, full: &[f64]) -> UnitQuaternion<f64> {
+        self.st.frames.reference(k)
+            * UnitQuaternion::from_scaled_axis(self.st.frames.theta(k, full))
     }
 
     /// Axial force of element `e` in the committed state [N] (with the bowing term if on).
@@ -1163,6 +1179,70 @@ impl MechanicalSystem for Belt3d {
     /// bristle storing the damper's force (`contact::circle_friction::bristle_factor`):
     /// with the Kelvin–Voigt bristle the balance is −0.31 % with it, −0.30 % without.
     fn damped_newton(&self) -> bool {
+        true
+    }
+
+    /// The transport predictor (the 3D analogue of the planar drive's, issue 12): node `i` at
+    /// `t + h` is where the material at `X_i + ΔX_i` was at `t`, `ΔX = h (v · t_i)` along the
+    /// centre line (`t_i = R_i e₁`, the node's tangent; element length `l0` per element), plus
+    /// `h v_n`, the velocity normal to the transport. Position from the elements' cubic Hermite
+    /// centre line ([`Corot3d::centre_line`]: end tangents `R e₁ l0`), orientation from the
+    /// geodesic between the element's two node orientations, `R_a exp(ξ log(R_aᵀ R_b))`, across
+    /// element boundaries and round the loop; written as the incremental rotation vector
+    /// `log(R_refᵀ R_pred)` from the node's stored orientation. The pulley angles keep the
+    /// integrator's predictor. Off in statics (no transport) and if switched off
+    /// ([`Belt3d::set_transport_predictor`]).
+    fn predict(&mut self, q0: &[f64], v0: &[f64], h: f64, q1: &mut [f64]) -> bool {
+        let l = self.element_length();
+        if !self.transport_predictor || self.held.is_some() || h <= 0.0 || l <= 0.0 {
+            return false;
+        }
+        let (mut qf, mut vf, mut pred) = (
+            std::mem::take(&mut self.st.qw),
+            std::mem::take(&mut self.st.vw),
+            std::mem::take(&mut self.st.aw),
+        );
+        self.st.asm.dofs.expand(q0, &mut qf);
+        self.st.asm.dofs.expand(v0, &mut vf);
+        let n = self.n_nodes;
+        let total = l * n as f64;
+        let el = self.set.element(0);
+        let position = |k: usize| Vector3::from_column_slice(&qf[k * NODE_DOFS..k * NODE_DOFS + 3]);
+        for i in 0..n {
+            let k = i * NODE_DOFS;
+            let ri = self.node_orientation(i, &qf);
+            let t = ri * Vector3::x();
+            let vel = Vector3::from_column_slice(&vf[k..k + 3]);
+            let vt = vel.dot(&t);
+            if !vt.is_finite() {
+                pred[k..k + NODE_DOFS].copy_from_slice(&qf[k..k + NODE_DOFS]);
+                continue;
+            }
+            let x = (i as f64 * l + h * vt).rem_euclid(total);
+            let e = ((x / l).floor() as usize).min(n - 1);
+            let xi = (x / l - e as f64).clamp(0.0, 1.0);
+            let (a, b) = (e, (e + 1) % n);
+            let (qa, qb) = (self.node_orientation(a, &qf), self.node_orientation(b, &qf));
+            let nodes = Nodes {
+                x: [position(a), position(b)],
+                r: [
+                    qa.to_rotation_matrix().into_inner(),
+                    qb.to_rotation_matrix().into_inner(),
+                ],
+            };
+            let r = el.centre_line(&nodes, xi) + h * (vel - vt * t);
+            let rp = qa * UnitQuaternion::from_scaled_axis(xi * (qa.inverse() * qb).scaled_axis());
+            let th = (self.st.frames.reference(i).inverse() * rp).scaled_axis();
+            pred[k..k + 3].copy_from_slice(r.as_slice());
+            pred[k + 3..k + 6].copy_from_slice(th.as_slice());
+        }
+        let belt = n * NODE_DOFS;
+        for (kf, &i) in self.st.asm.dofs.free_to_full().iter().enumerate() {
+            if i < belt {
+                q1[kf] = pred[i];
+            }
+        }
+        (self.st.qw, self.st.vw, self.st.aw) = (qf, vf, pred);
         true
     }
 
