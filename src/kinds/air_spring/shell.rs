@@ -1217,6 +1217,8 @@ impl AirSpringShell {
             full.plate
                 .add_residual(&st.qw, &st.vw, fc, Some((coeffs, &mut plate_vals[..])));
         }
+        // out of contact the plate's part is zero: no products with it
+        let on_plate = fc.iter().any(|x| *x != 0.0);
         let dofs = &main.asm.dofs;
         // ∂V/∂q of every patch (for the direct volume change of a plate motion)
         let conn = main.quads.connectivity();
@@ -1295,7 +1297,7 @@ impl AirSpringShell {
                 dm -= darm.cross(&rk) + arm.cross(&drk);
             }
             // the plate contact: force `fc_k` on the plate at node k, moment `(x_k − c) × fc_k`
-            if full.plate_on {
+            if on_plate {
                 full.asm.pattern.mul_vec(plate_vals, dfull, dfc);
                 let dc = if j < 3 {
                     Vector3::ith(j, 1.0)
