@@ -105,6 +105,9 @@ struct Mech {
     plate: ContactPointSet<Plate3d, 3, 1, 8>,
     /// Whether the plate contact is assembled ([`AirSpringShell::set_plate_contact`]).
     plate_on: bool,
+    /// Coordinate indices of the plate contact's nodes' `x` and of the plate's pose.
+    plate_rows: Vec<usize>,
+    plate_coord: usize,
 }
 
 /// What a [`Mech`] is built from.
@@ -191,7 +194,24 @@ impl Mech {
             contact,
             plate,
             plate_on: true,
+            plate_rows: parts.plate_nodes.iter().map(|k| k * NODE_DOFS).collect(),
+            plate_coord: n_nodes * NODE_DOFS + 1,
         }
+    }
+
+    /// Whether the plate contact has work at full coordinates `q`: switched on and a node above
+    /// the plate's plane (a cheap pass that spares the contact loop while the sleeve hangs
+    /// clear of the plate, the rolling lobe's usual state).
+    fn plate_touched(&self, q: &[f64]) -> bool {
+        if !self.plate_on {
+            return false;
+        }
+        let x = &q[self.plate_coord..self.plate_coord + PLATE_COORDS];
+        let c = Vector3::new(x[0], x[1], x[2]);
+        let n = exp_so3(&Vector3::new(x[3], x[4], 0.0)) * Vector3::z();
+        self.plate_rows
+            .iter()
+            .any(|&i| (Vector3::new(q[i], q[i + 1], q[i + 2]) - c).dot(&n) > 0.0)
     }
 }
 
@@ -855,7 +875,7 @@ impl AirSpringShell {
         }
         mech.contact
             .add_residual(&st.qw, &st.vw, f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
-        if mech.plate_on {
+        if mech.plate_touched(&st.qw) {
             mech.plate
                 .add_residual(&st.qw, &st.vw, f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
         }
@@ -939,7 +959,7 @@ impl AirSpringShell {
         c: &Vector3<f64>,
     ) -> (Vector3<f64>, Vector3<f64>) {
         let (mut force, mut moment) = (Vector3::zeros(), Vector3::zeros());
-        if !mech.plate_on {
+        if !mech.plate_touched(&st.qw) {
             return (force, moment);
         }
         for (e, &k) in ends.plate_nodes.iter().enumerate() {
@@ -1213,7 +1233,7 @@ impl AirSpringShell {
         // the plate contact alone: its forces on the plate and their derivatives
         plate_vals.fill(0.0);
         fc.fill(0.0);
-        if full.plate_on {
+        if full.plate_touched(&st.qw) {
             full.plate
                 .add_residual(&st.qw, &st.vw, fc, Some((coeffs, &mut plate_vals[..])));
         }
@@ -1623,7 +1643,7 @@ impl Model for AirSpringShell {
         });
         self.pose = pose[0];
         let book = self.main.contact.commit(&self.st.q, &self.st.v, false);
-        let plate = if self.main.plate_on {
+        let plate = if self.main.plate_touched(&self.st.q) {
             self.main.plate.commit(&self.st.q, &self.st.v, false)
         } else {
             ContactBook::default()
