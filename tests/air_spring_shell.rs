@@ -115,38 +115,7 @@ fn port_block_matches_finite_differences_of_the_equilibrium() {
         [0.0, 0.0, 0.25, 0.0, 0.0],
         [0.004, -0.003, 0.235, 0.02, -0.015],
     ] {
-        let mut m = build_shell(&t);
-        m.move_plate(pose).unwrap();
-        let (k, dv) = m.port_block().unwrap();
-        let v0 = m.gas().committed().volume;
-        let steps = [2e-5, 2e-5, 2e-5, 2e-4, 2e-4];
-        for j in 0..5 {
-            let at = |s: f64| {
-                let mut p = pose;
-                p[j] += s;
-                let mut mm = build_shell(&t);
-                mm.move_plate(pose).unwrap();
-                let f = mm.move_plate(p).unwrap();
-                (f, mm.gas().committed().volume)
-            };
-            let (fp, vp) = at(steps[j]);
-            let (fm, vm) = at(-steps[j]);
-            let scale_f = k.iter().map(|r| r[j].abs()).fold(0.0, f64::max);
-            for i in 0..5 {
-                let fd = (fp[i] - fm[i]) / (2.0 * steps[j]);
-                assert!(
-                    (fd - k[i][j]).abs() <= 2e-3 * scale_f,
-                    "pose {pose:?}: d{i}/d{j} analytic {} vs difference {fd}",
-                    k[i][j]
-                );
-            }
-            let fdv = (vp - vm) / (2.0 * steps[j]);
-            assert!(
-                (fdv - dv[j]).abs() <= 2e-3 * dv.iter().map(|x| x.abs()).fold(1e-12, f64::max),
-                "dV/d{j}: {} vs {fdv} (V {v0})",
-                dv[j]
-            );
-        }
+        common::assert_port_block(|| build_shell(&t), pose);
     }
 }
 

@@ -1,11 +1,13 @@
 //! Contact between flexible bodies and rigid parts: penalty contact with Coulomb friction for
-//! implicit integration. [`obstacle`]: what a point can touch (the pulley circle, the 3D pulley of [`pulley3d`], surfaces of revolution);
+//! implicit integration. [`obstacle`]: what a point can touch (the pulley circle, the 3D pulley of [`pulley3d`], surfaces of revolution, the
+//! tilting plate of [`plate3d`]);
 //! [`point_set`]: the points of a body, their history, the evaluation loop and the scatter
 //! into the assembly; [`circle_friction`]: the belt–pulley kernel.
 
 pub mod arm_pulley;
 pub mod circle_friction;
 pub mod obstacle;
+pub mod plate3d;
 pub mod point_set;
 pub mod pulley3d;
 pub mod revolution;
@@ -14,6 +16,7 @@ pub mod section3d;
 pub use arm_pulley::{ArmContact, ArmPulley};
 pub use circle_friction::{Circle, ContactLaw, PointContact, PointHistory, PointState};
 pub use obstacle::{ContactHistory, Obstacle, ObstacleContact, PointMotion};
+pub use plate3d::{Plate3d, Plate3dContact};
 pub use point_set::{ContactBook, ContactPointSet, ObstacleLoad};
 pub use pulley3d::{Pulley3d, Pulley3dContact, Pulley3dHistory};
 pub use section3d::SectionContactSet;

@@ -436,7 +436,7 @@ impl ObstacleContact<3> for RevolutionContact {
 /// The same obstacles seen in space (the axis is z): a point `(x, y, z)` is at radius
 /// `r = √(x² + y²)` of its meridian plane, and the normal `(n_r e_r, n_z)` turns with it about
 /// the axis. Only the piston is defined in space: the plate of a shell spring tilts, which its
-/// axial coordinate cannot say (the shell level leaves the fold against the plate out).
+/// axial coordinate cannot say (the shell level uses [`super::plate3d::Plate3d`] for it).
 impl Obstacle<3> for AxisymObstacle {
     const N_COORDS: usize = 1;
     type History = SlideHistory3;

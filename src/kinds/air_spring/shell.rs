@@ -3,9 +3,11 @@
 //! membrane ([`CordRubberQuad`], exact in finite strain) and, where the wall has a bending
 //! stiffness, the seed-004 element ([`TrapezoidShell`], bending and drilling only) on the same
 //! nodes; the gas of the bag ([`crate::gas::Gas`]) as a follower pressure with its rank-one
-//! volume coupling; frictionless penalty contact of the nodes with the piston of revolution
-//! ([`AxisymObstacle`] seen in space). The top plate moves in five axes (`top.x`, `top.y`,
-//! `top.z`, `top.rx`, `top.ry`) and reports force and moment.
+//! volume coupling; penalty contact of the nodes with the piston of revolution
+//! ([`AxisymObstacle`] seen in space, friction `contact.mu`) and, frictionless, with the top
+//! plate's underside where the sleeve folds against it ([`Plate3d`], out to 10 bead radii as
+//! at the membrane level). The top plate moves in five axes (`top.x`, `top.y`, `top.z`,
+//! `top.rx`, `top.ry`) and reports force and moment.
 //!
 //! **Mesh.** Ring `i` (0 at the top bead, `n` at the clamp on the piston top) and angle
 //! `φ_j = 2π j/n_c`; the stress-free sleeve is the cylinder of `bellows.sleeve_radius`. Every
@@ -19,7 +21,8 @@
 //! **Coordinates.** Per node `[x, y, z, θx, θy, θz]` as the shell kind (incremental rotations
 //! absorbed into stored node frames, [`FramedState`]); with `bellows.bending_stiffness = 0`
 //! the wall is a pure membrane and the rotations are not coordinates. Then the piston's axial
-//! position (fixed at 0). The bead ring follows the plate rigidly (positions prescribed,
+//! position (fixed at 0), then the plate's pose `(x, y, z, rx, ry)` as the plate contact's
+//! obstacle coordinates (prescribed by the inputs; free in the condensation). The bead ring follows the plate rigidly (positions prescribed,
 //! rotations free: a pinned bead, as the membrane level's), the clamp ring is fixed.
 //!
 //! **Residual.** `r = M a + f_int(q) − p_g f_p(q) − f_contact` with the follower load of the
@@ -34,19 +37,23 @@
 //! frames turned by the meridian's angle, is the start of Newton's method for this level under
 //! the fixed design pressure. The gas is charged with this level's bag volume.
 //!
-//! **Plate force.** `top.f = −Σ_bead r_k + p_g A` (`A` the vector area of the plate cap) and
-//! `top.m = −Σ_bead (x_k − c) × r_k` about the plate centre `c`. The port block (the 5 × 5
+//! **Plate force.** `top.f = −Σ_bead r_k + p_g A + Σ_k f_k` (`A` the vector area of the plate
+//! cap, `f_k` the plate contact's force on the plate at node `k`) and
+//! `top.m = −Σ_bead (x_k − c) × r_k + Σ_k (x_k − c) × f_k` about the plate centre `c`. The port block (the 5 × 5
 //! derivatives of `top.fx … top.my` with respect to the plate axes) is the static condensation
-//! of the tangent, with the gas: computed on request at the committed state.
+//! of the tangent, with the gas: computed on request at the committed state; the plate's
+//! coordinates move with the bead ring there, so the contact's dependence on the pose enters
+//! both the shape change and the load change.
 
 use super::relax::{Pressure, Relaxation};
 use super::scene::{Input, Output, io, names::*, piston_contour};
 use super::table::{gas_error, gas_output, gas_params};
 use super::{AXIS_Z, AirSpringScene, PLATE_AXES, PlateInput};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet, Eval};
-use crate::contact::ContactPointSet;
 use crate::contact::circle_friction::ContactLaw;
+use crate::contact::plate3d::{PLATE_COORDS, Plate3d};
 use crate::contact::revolution::AxisymObstacle;
+use crate::contact::{ContactBook, ContactPointSet};
 use crate::elements::cord_rubber::CordRubberWall;
 use crate::elements::cord_rubber_quad::{CordRubberQuad, QUAD_DOFS};
 use crate::elements::node_frames::NodeFrames;
@@ -93,6 +100,14 @@ struct Mech {
     shells: Option<ElementSet<Arc<TrapezoidShell>, ELEMENT_DOFS>>,
     quads: ElementSet<Arc<CordRubberQuad>, QUAD_DOFS>,
     contact: ContactPointSet<AxisymObstacle, 3, 1, 4>,
+    /// The nodes between the rings at the bead and the clamp against the top plate (obstacle
+    /// coordinates: the plate's pose, after the piston's coordinate).
+    plate: ContactPointSet<Plate3d, 3, 1, 8>,
+    /// Whether the plate contact is assembled ([`AirSpringShell::set_plate_contact`]).
+    plate_on: bool,
+    /// Coordinate indices of the plate contact's nodes' `x` and of the plate's pose.
+    plate_rows: Vec<usize>,
+    plate_coord: usize,
 }
 
 /// What a [`Mech`] is built from.
@@ -104,6 +119,9 @@ struct MechParts<'a> {
     frames: &'a NodeFrames,
     law: ContactLaw,
     piston: AxisymObstacle,
+    /// The top plate and the nodes that can touch it.
+    plate: Plate3d,
+    plate_nodes: &'a [usize],
     node_area: f64,
 }
 
@@ -124,9 +142,28 @@ impl Mech {
         let blocks: Vec<[usize; 4]> = (0..n_nodes)
             .map(|k| [k * NODE_DOFS, k * NODE_DOFS + 1, k * NODE_DOFS + 2, piston])
             .collect();
+        let plate = piston + 1;
+        let plate_blocks: Vec<[usize; 8]> = parts
+            .plate_nodes
+            .iter()
+            .map(|&k| {
+                let i = k * NODE_DOFS;
+                [
+                    i,
+                    i + 1,
+                    i + 2,
+                    plate,
+                    plate + 1,
+                    plate + 2,
+                    plate + 3,
+                    plate + 4,
+                ]
+            })
+            .collect();
         let mut groups: Vec<(usize, &[usize])> = vec![
             (QUAD_DOFS, quad_dofs.as_flattened()),
             (4, blocks.as_flattened()),
+            (8, plate_blocks.as_flattened()),
         ];
         if parts.shells.is_some() {
             groups.push((ELEMENT_DOFS, shell_dofs.as_flattened()));
@@ -143,12 +180,38 @@ impl Mech {
             [0, 0],
         );
         contact.set_points(vec![[1.0]], parts.node_area);
+        let mut plate = ContactPointSet::new(
+            parts.law,
+            vec![parts.plate],
+            Connectivity::new(plate_blocks, &asm),
+            [0, 0],
+        );
+        plate.set_points(vec![[1.0]], parts.node_area);
         Self {
             asm,
             shells,
             quads,
             contact,
+            plate,
+            plate_on: true,
+            plate_rows: parts.plate_nodes.iter().map(|k| k * NODE_DOFS).collect(),
+            plate_coord: n_nodes * NODE_DOFS + 1,
         }
+    }
+
+    /// Whether the plate contact has work at full coordinates `q`: switched on and a node above
+    /// the plate's plane (a cheap pass that spares the contact loop while the sleeve hangs
+    /// clear of the plate, the rolling lobe's usual state).
+    fn plate_touched(&self, q: &[f64]) -> bool {
+        if !self.plate_on {
+            return false;
+        }
+        let x = &q[self.plate_coord..self.plate_coord + PLATE_COORDS];
+        let c = Vector3::new(x[0], x[1], x[2]);
+        let n = exp_so3(&Vector3::new(x[3], x[4], 0.0)) * Vector3::z();
+        self.plate_rows
+            .iter()
+            .any(|&i| (Vector3::new(q[i], q[i + 1], q[i + 2]) - c).dot(&n) > 0.0)
     }
 }
 
@@ -161,6 +224,11 @@ struct Ends {
     plate_area: Vector3<f64>,
     /// Bag volume below the piston-top cap: `(1/3) x · A` of that cap [m³] (constant).
     clamp_cap: f64,
+    /// The nodes in contact with the plate, in the order of the plate contact's blocks.
+    plate_nodes: Vec<usize>,
+    /// First of the plate's five coordinates `(x, y, z, rx, ry)` (prescribed; free in the
+    /// condensation).
+    plate_coord: usize,
 }
 
 /// The port block and the volume derivative of a committed state.
@@ -194,6 +262,11 @@ struct Condensation {
     main_solver: Option<LinearSolver>,
     main_vals: Vec<f64>,
     full_vals: Vec<f64>,
+    /// The plate contact's part of `K` (every coordinate free), its residual and the change of
+    /// that residual along a direction (full vectors).
+    plate_vals: Vec<f64>,
+    fc: Vec<f64>,
+    dfc: Vec<f64>,
     cache: Option<(u64, Option<Condensed>)>,
 }
 
@@ -367,10 +440,12 @@ impl AirSpringShell {
                 })?));
             }
         }
-        let n_full = n_nodes * NODE_DOFS + 1;
         let piston_coord = n_nodes * NODE_DOFS;
+        let plate_coord = piston_coord + 1;
+        let n_full = plate_coord + PLATE_COORDS;
         let mut constrained = vec![false; n_full];
         constrained[piston_coord] = true;
+        constrained[plate_coord..].fill(true);
         for j in 0..n_circ {
             for i in [0, n_mer] {
                 for d in 0..3 {
@@ -389,6 +464,7 @@ impl AirSpringShell {
         // revolve the membrane level's meridian
         let mer = axisym.meridian();
         let mut q0 = vec![0.0; n_full];
+        q0[plate_coord + AXIS_Z] = hd;
         for i in 0..n_rings {
             let [r, z] = mer[i];
             let prev = mer[i.saturating_sub(1)];
@@ -423,6 +499,12 @@ impl AirSpringShell {
         let piston = AxisymObstacle::Piston {
             contour: contour.iter().map(|c| [s * c[0], c[1]]).collect(),
         };
+        // the plate (out to 10 bead radii, as the membrane level's) against every node but the
+        // bead ring (on the plate: a zero gap) and the clamp ring
+        let plate_nodes: Vec<usize> = (1..n_mer)
+            .flat_map(|i| (0..n_circ).map(move |j| (i, j)))
+            .map(|(i, j)| node(i, j))
+            .collect();
         let parts = MechParts {
             shells: rotations.then_some(&shells[..]),
             quads: &quads,
@@ -431,6 +513,8 @@ impl AirSpringShell {
             frames: &frames,
             law,
             piston,
+            plate: Plate3d { radius: 10.0 * rb },
+            plate_nodes: &plate_nodes,
             node_area: area,
         };
         let main = Mech::new(&parts, &constrained);
@@ -457,6 +541,8 @@ impl AirSpringShell {
             bead,
             plate_area: Vector3::new(0.0, 0.0, poly(rb)),
             clamp_cap: -clamp[1] * poly(clamp[0]) / 3.0,
+            plate_nodes,
+            plate_coord,
         };
         let gp = gas_params(p, scene);
         let io = io(scene);
@@ -481,6 +567,9 @@ impl AirSpringShell {
                 main_solver: None,
                 main_vals: vec![],
                 full_vals: vec![],
+                plate_vals: vec![],
+                fc: vec![0.0; n_full],
+                dfc: vec![0.0; n_full],
                 cache: None,
             }),
             ends,
@@ -531,6 +620,16 @@ impl AirSpringShell {
     /// Number of elements `(around, along)`.
     pub fn mesh(&self) -> (usize, usize) {
         (self.n_circ, self.n_mer)
+    }
+
+    /// Switches the sleeve's contact with the top plate on (the default) or off, for
+    /// comparisons in tools and tests; the next solve or step uses it.
+    pub fn set_plate_contact(&mut self, on: bool) {
+        self.main.plate_on = on;
+        let mut c = self.cond.borrow_mut();
+        c.main.plate_on = on;
+        c.full.plate_on = on;
+        c.cache = None;
     }
 
     /// Number of free coordinates.
@@ -706,6 +805,10 @@ impl AirSpringShell {
                 self.st.aw[i + d] = a[d];
             }
         }
+        let pc = self.ends.plate_coord;
+        self.st.qw[pc..pc + PLATE_AXES].copy_from_slice(&u);
+        self.st.vw[pc..pc + PLATE_AXES].copy_from_slice(&ud);
+        self.st.aw[pc..pc + PLATE_AXES].copy_from_slice(&udd);
     }
 
     /// Fills the work buffers with the full state at `t` from free `q`, `v`, `a`.
@@ -772,6 +875,10 @@ impl AirSpringShell {
         }
         mech.contact
             .add_residual(&st.qw, &st.vw, f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+        if mech.plate_touched(&st.qw) {
+            mech.plate
+                .add_residual(&st.qw, &st.vw, f, jac.as_mut().map(|(c, v)| (*c, &mut **v)));
+        }
         if let Some((c, vals)) = jac {
             let nnz = mech.asm.pattern.nnz();
             if vals.len() == rank_one_len(&mech.asm.pattern) {
@@ -835,7 +942,39 @@ impl AirSpringShell {
             force -= rk;
             moment -= (self.node(&self.st.qw, k) - c).cross(&rk);
         }
+        let (fc, mc) = Self::plate_contact_load(&self.main, &self.ends, &self.st, &c);
+        force += fc;
+        moment += mc;
         [force.x, force.y, force.z, moment.x, moment.y]
+    }
+
+    /// Force and moment about the plate centre `c` of the plate contact on the plate at the
+    /// work state [N, N m]: the force on the plate at a node is what the contact adds to the
+    /// node's residual (frictionless: along the plate normal, so the node's position is as
+    /// good an arm as the contact point's).
+    fn plate_contact_load(
+        mech: &Mech,
+        ends: &Ends,
+        st: &FramedState,
+        c: &Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let (mut force, mut moment) = (Vector3::zeros(), Vector3::zeros());
+        if !mech.plate_touched(&st.qw) {
+            return (force, moment);
+        }
+        for (e, &k) in ends.plate_nodes.iter().enumerate() {
+            let mut fk = [0.0; 3];
+            mech.plate
+                .subtract_element_forces(e, &st.qw, &st.vw, &mut fk);
+            if fk != [0.0; 3] {
+                let fk = Vector3::from(fk);
+                let i = k * NODE_DOFS;
+                let xk = Vector3::new(st.qw[i], st.qw[i + 1], st.qw[i + 2]);
+                force += fk;
+                moment += (xk - c).cross(&fk);
+            }
+        }
+        (force, moment)
     }
 
     /// Pseudo-transient continuation (`(K + c M) Δq = −r`, `c` shrinking with the residual)
@@ -961,6 +1100,8 @@ impl AirSpringShell {
             let i = k * NODE_DOFS;
             self.st.q[i..i + 3].copy_from_slice(&qw[i..i + 3]);
         }
+        let pc = self.ends.plate_coord;
+        self.st.q[pc..pc + PLATE_AXES].copy_from_slice(&qw[pc..pc + PLATE_AXES]);
         self.st.v.fill(0.0);
         self.st.acc.fill(0.0);
         self.pose = to;
@@ -1039,6 +1180,9 @@ impl AirSpringShell {
             main_solver,
             main_vals,
             full_vals,
+            plate_vals,
+            fc,
+            dfc,
             st,
             g,
             f,
@@ -1071,6 +1215,7 @@ impl AirSpringShell {
                 Some(LinearSolver::new(&main.asm.pattern, solver_kind(&main.asm.pattern)).ok()?);
             *main_vals = vec![0.0; rank_one_len(&main.asm.pattern)];
             *full_vals = vec![0.0; full.asm.pattern.nnz()];
+            *plate_vals = vec![0.0; full.asm.pattern.nnz()];
         }
         let solver = main_solver.as_mut()?;
         Self::assemble(
@@ -1085,6 +1230,15 @@ impl AirSpringShell {
         solver.factor(&main.asm.pattern, main_vals).ok()?;
         // every coordinate free: K over all rows and columns, and the residual of the state
         Self::assemble(full, st, g, p_g, 0.0, f, Some((coeffs, &mut full_vals[..])));
+        // the plate contact alone: its forces on the plate and their derivatives
+        plate_vals.fill(0.0);
+        fc.fill(0.0);
+        if full.plate_touched(&st.qw) {
+            full.plate
+                .add_residual(&st.qw, &st.vw, fc, Some((coeffs, &mut plate_vals[..])));
+        }
+        // out of contact the plate's part is zero: no products with it
+        let on_plate = fc.iter().any(|x| *x != 0.0);
         let dofs = &main.asm.dofs;
         // ∂V/∂q of every patch (for the direct volume change of a plate motion)
         let conn = main.quads.connectivity();
@@ -1121,6 +1275,8 @@ impl AirSpringShell {
                 };
                 t[k * NODE_DOFS..k * NODE_DOFS + 3].copy_from_slice(dx.as_slice());
             }
+            // the plate as the contact's obstacle
+            t[self.ends.plate_coord + j] = 1.0;
             // the direct volume change (patches and the plate cap)
             let mut vdir: f64 = vgrad.iter().zip(t.iter()).map(|(a, b)| a * b).sum();
             vdir += match turn {
@@ -1159,6 +1315,27 @@ impl AirSpringShell {
                 };
                 df -= drk;
                 dm -= darm.cross(&rk) + arm.cross(&drk);
+            }
+            // the plate contact: force `fc_k` on the plate at node k, moment `(x_k − c) × fc_k`
+            if on_plate {
+                full.asm.pattern.mul_vec(plate_vals, dfull, dfc);
+                let dc = if j < 3 {
+                    Vector3::ith(j, 1.0)
+                } else {
+                    Vector3::zeros()
+                };
+                for &k in &self.ends.plate_nodes {
+                    let i = k * NODE_DOFS;
+                    let fk = Vector3::new(fc[i], fc[i + 1], fc[i + 2]);
+                    let dfk = Vector3::new(dfc[i], dfc[i + 1], dfc[i + 2]);
+                    if fk == Vector3::zeros() && dfk == Vector3::zeros() {
+                        continue;
+                    }
+                    let arm = self.node(&st.qw, k) - c;
+                    let darm = Vector3::new(dfull[i], dfull[i + 1], dfull[i + 2]) - dc;
+                    df += dfk;
+                    dm += darm.cross(&fk) + arm.cross(&dfk);
+                }
             }
             let col = [df.x, df.y, df.z, dm.x, dm.y];
             for (i, v) in col.iter().enumerate() {
@@ -1435,7 +1612,16 @@ impl Model for AirSpringShell {
         let (c, r, ts) = Self::plate_frame(&pose[0]);
         let omega = ts * Vector3::new(pose[1][3], pose[1][4], 0.0);
         let alpha = ts * Vector3::new(pose[2][3], pose[2][4], 0.0);
+        let pc = self.ends.plate_coord;
         self.st.accept(state, |mut q, mut v, mut a| {
+            for (k, buf) in [q.as_deref_mut(), v.as_deref_mut(), a.as_deref_mut()]
+                .into_iter()
+                .enumerate()
+            {
+                if let Some(buf) = buf {
+                    buf[pc..pc + PLATE_AXES].copy_from_slice(&pose[k]);
+                }
+            }
             for &(k, rho) in ends {
                 let arm = r * rho;
                 let i = k * NODE_DOFS;
@@ -1457,12 +1643,19 @@ impl Model for AirSpringShell {
         });
         self.pose = pose[0];
         let book = self.main.contact.commit(&self.st.q, &self.st.v, false);
-        self.contact_loss +=
-            0.5 * (self.last_damping_power + book.dissipation) * dt + book.friction_work;
-        self.last_damping_power = book.dissipation;
+        let plate = if self.main.plate_touched(&self.st.q) {
+            self.main.plate.commit(&self.st.q, &self.st.v, false)
+        } else {
+            ContactBook::default()
+        };
+        let power = book.dissipation + plate.dissipation;
+        self.contact_loss += 0.5 * (self.last_damping_power + power) * dt + book.friction_work;
+        self.last_damping_power = power;
         if self.commit_reaction().is_err() {
             self.force = [f64::NAN; PLATE_AXES];
         }
+        // the plate's penalty energy is stored elastic energy
+        self.strain += plate.normal_energy;
         if self.initialized {
             for i in 0..PLATE_AXES {
                 self.plate_work -=
