@@ -229,6 +229,22 @@ impl Obstacle<2> for AxisymObstacle {
         }
     }
 
+    /// [`Obstacle::near`], and for the plate (the floor) at height `x[0]`: a segment with
+    /// both ends below (above) it cannot penetrate it (its points are convex combinations of
+    /// the ends and the penetration is `z − x[0]` (`x[0] − z`)).
+    #[inline]
+    fn near_at(&self, a: &SVector<f64, 2>, b: &SVector<f64, 2>, x: &[f64]) -> bool {
+        match self {
+            AxisymObstacle::Plate { .. } => !(a.y.max(b.y) <= x[0]),
+            AxisymObstacle::Floor { .. } => !(a.y.min(b.y) >= x[0]),
+            AxisymObstacle::Piston { contour } => {
+                // above the contour's top (relative to the piston at `x[0]`): out of contact
+                let top = contour.last().map_or(f64::INFINITY, |p| p[1]);
+                !(a.y.min(b.y) - x[0] > top) && self.near(a, b)
+            }
+        }
+    }
+
     fn evaluate(
         &self,
         law: &ContactLaw,
