@@ -1141,7 +1141,7 @@ impl MechanicalSystem for AirSpring {
     /// piecewise linear in time (a velocity jump at every communication step), which the
     /// integrator's Taylor predictor in time carries into the next step; in `z` the shape is
     /// smooth. 60 elements, the 2 Hz sine of `examples/bench_air_spring.rs`: the first Newton
-    /// increment is below the tolerance in a quarter of the steps (median 5.8e-8, against
+    /// increment is below the tolerance in a quarter of the steps (median 5.6e-8, against
     /// 4.7e-8 for the integrator's, whose 10 % quantile is 1.2e-8). Left to the integrator's
     /// predictor: fewer than three commits since the last jump of the shape, the plate at rest
     /// or turning (the heights not monotone), or a step more than three times the last ones.
