@@ -490,7 +490,10 @@ fn fmi_rows() {
     {
         cases.push(("level 3 (table)", "air_spring_table", vec![]));
     }
-    cases.push(("level 1, 16 × 40 elements", "air_spring", vec![]));
+    // `BENCH_FMI_LEVEL1=0` leaves the shell out (its runs take minutes)
+    if std::env::var("BENCH_FMI_LEVEL1").map_or(true, |v| v != "0") {
+        cases.push(("level 1, 16 × 40 elements", "air_spring", vec![]));
+    }
     for (label, name, ov) in &cases {
         for all in [false, true] {
             let t = fmi_step_time(name, ov, all);

@@ -1359,6 +1359,12 @@ impl Model for AirSpring {
         }
         self.main.contact.save(w);
         self.gas.save(w);
+        // the predictor's history: a restored run predicts as the original one
+        w.u64(self.n_history as u64);
+        w.f64s(&self.history_z);
+        for q in &self.history_q {
+            w.f64s(q);
+        }
         Ok(())
     }
 
@@ -1385,9 +1391,13 @@ impl Model for AirSpring {
         self.strain.set(Some(strain));
         self.main.contact.restore(r)?;
         self.gas.restore(r).map_err(e)?;
+        self.n_history = (r.u64().map_err(e)? as usize).min(3);
+        r.f64s_into(&mut self.history_z).map_err(e)?;
+        for q in self.history_q.iter_mut() {
+            r.f64s_into(q).map_err(e)?;
+        }
         // the condensation of the restored state is computed when asked
         self.commits += 1;
-        self.n_history = 0;
         Ok(())
     }
 }
