@@ -84,6 +84,14 @@ pub trait Obstacle<const D: usize> {
     /// Broad phase: whether a segment of the body with end points `a`, `b` [m] can touch.
     fn near(&self, a: &SVector<f64, D>, b: &SVector<f64, D>) -> bool;
 
+    /// [`Obstacle::near`] knowing the obstacle's coordinates `x` (first
+    /// [`Obstacle::N_COORDS`] entries): an obstacle that moves (a plate at height `x[0]`) can
+    /// skip the segments it cannot reach there. Default: [`Obstacle::near`].
+    #[inline(always)]
+    fn near_at(&self, a: &SVector<f64, D>, b: &SVector<f64, D>, _x: &[f64]) -> bool {
+        self.near(a, b)
+    }
+
     /// Contact of a point standing for the body length (or area) `w` with the obstacle at
     /// coordinates `x` and rates `xd` (first [`Obstacle::N_COORDS`] entries); `None` out of
     /// contact.

@@ -160,7 +160,11 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
     fn near(&self, e: usize, k: usize, q: &[f64]) -> bool {
         let d = self.blocks.dofs(e * self.obstacles.len() + k);
         let end = |a: usize| SVector::<f64, D>::from_fn(|i, _| q[d[D * a + i]]);
-        self.obstacles[k].near(&end(self.ends[0]), &end(self.ends[1]))
+        let mut x = [0.0; MAX_OBSTACLE_COORDS];
+        for (l, xl) in x.iter_mut().enumerate().take(O::N_COORDS) {
+            *xl = q[d[NV * D + l]];
+        }
+        self.obstacles[k].near_at(&end(self.ends[0]), &end(self.ends[1]), &x)
     }
 
     /// Position and velocity of point `i` of block `b`, and the obstacle's coordinates and

@@ -229,6 +229,27 @@ impl Obstacle<2> for AxisymObstacle {
         }
     }
 
+    /// [`Obstacle::near`], and for the plate (the floor) at height `x[0]`: a segment with
+    /// both ends below (above) it cannot penetrate it (its points are convex combinations of
+    /// the ends and the penetration is `z − x[0]` (`x[0] − z`)).
+    #[inline]
+    fn near_at(&self, a: &SVector<f64, 2>, b: &SVector<f64, 2>, x: &[f64]) -> bool {
+        use std::cmp::Ordering::{Equal, Greater, Less};
+        match self {
+            AxisymObstacle::Plate { .. } => {
+                !matches!(a.y.max(b.y).partial_cmp(&x[0]), Some(Less | Equal))
+            }
+            AxisymObstacle::Floor { .. } => {
+                !matches!(a.y.min(b.y).partial_cmp(&x[0]), Some(Greater | Equal))
+            }
+            AxisymObstacle::Piston { contour } => {
+                // above the contour's top (relative to the piston at `x[0]`): out of contact
+                let top = contour.last().map_or(f64::INFINITY, |p| p[1]);
+                !matches!((a.y.min(b.y) - x[0]).partial_cmp(&top), Some(Greater)) && self.near(a, b)
+            }
+        }
+    }
+
     fn evaluate(
         &self,
         law: &ContactLaw,

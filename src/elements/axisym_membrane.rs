@@ -45,6 +45,9 @@ pub struct AxisymMembrane {
     /// them while `wall.cord_angle` is unchanged (one `sin_cos` per element instead of one
     /// per integration point and evaluation).
     cord_trig: (f64, (f64, f64)),
+    /// The reference `(length, radius)` at construction with its Gauss-point constants
+    /// ([`AxisymMembrane::gauss_points`]).
+    gauss: ((f64, [f64; 2]), [[f64; 3]; 2]),
 }
 
 // ------------------------------------------------------------------------- shape functions
@@ -77,6 +80,7 @@ impl AxisymMembrane {
             wall,
             mass,
             cord_trig: (wall.cord_angle, wall.cord_angle.sin_cos()),
+            gauss: ((length, radius), gauss_constants(length, radius)),
         }
     }
 
@@ -91,64 +95,87 @@ impl AxisymMembrane {
 
     // ------------------------------------------------------------------- internal forces
 
+    /// The Gauss-point constants of the current reference (`length`, `radius`): per point
+    /// `(N₁/R, N₂/R, w)` with `R` the reference radius there and `w = 2π R L/2` the weight
+    /// [1/m, 1/m, m²] (kept from construction while the reference is unchanged).
+    #[inline]
+    fn gauss_points(&self) -> [[f64; 3]; 2] {
+        if self.gauss.0 == (self.length, self.radius) {
+            self.gauss.1
+        } else {
+            gauss_constants(self.length, self.radius)
+        }
+    }
+
     /// Energy [J], and if asked the internal force and the tangent stiffness.
     fn evaluate(
         &self,
         q: &SVector<f64, 4>,
-        mut f: Option<&mut SVector<f64, 4>>,
-        mut k: Option<&mut SMatrix<f64, 4, 4>>,
+        f: Option<&mut SVector<f64, 4>>,
+        k: Option<&mut SMatrix<f64, 4, 4>>,
     ) -> f64 {
         let (dr, dz) = (q[2] - q[0], q[3] - q[1]);
         let ell = (dr * dr + dz * dz).sqrt();
-        let ls = ell / self.length;
-        let n = [dr / ell, dz / ell];
-        // ∂λ_s/∂q
-        let a = Vector4::new(-n[0], -n[1], n[0], n[1]) / self.length;
-        if let Some(f) = f.as_deref_mut() {
-            f.fill(0.0);
-        }
-        if let Some(k) = k.as_deref_mut() {
-            k.fill(0.0);
-        }
-        let mut u = 0.0;
-        let mut ws_sum = 0.0;
+        let inv_len = 1.0 / self.length;
+        let ls = ell * inv_len;
+        let inv_ell = 1.0 / ell;
+        let n = [dr * inv_ell, dz * inv_ell];
+        // ∂λ_s/∂q = [−n, n]/L
+        let a = Vector4::new(-n[0], -n[1], n[0], n[1]) * inv_len;
         let trig = if self.cord_trig.0 == self.wall.cord_angle {
             self.cord_trig.1
         } else {
             self.wall.cord_angle.sin_cos()
         };
-        for &xi in &GAUSS {
-            let nn = shape(xi);
-            let rr = nn[0] * self.radius[0] + nn[1] * self.radius[1];
-            let lt = (nn[0] * q[0] + nn[1] * q[2]) / rr;
-            let w = 2.0 * PI * rr * 0.5 * self.length;
+        let gp = self.gauss_points();
+        // sums over the points: Σ w W, Σ w ∂W/∂λ_s, Σ w ∂²W/∂λ_s², and per node Σ w ∂W/∂λ_θ b,
+        // Σ w ∂²W/∂λ_s∂λ_θ b, Σ w ∂²W/∂λ_θ² b bᵀ (∂λ_θ/∂q = b = (N₁/R, 0, N₂/R, 0))
+        let (mut u, mut g_s, mut h_ss) = (0.0, 0.0, 0.0);
+        let (mut g_t, mut h_st) = ([0.0; 2], [0.0; 2]);
+        let mut h_tt = [0.0; 3];
+        for &[b1, b2, w] in &gp {
+            let lt = b1 * q[0] + b2 * q[2];
             let e = self.wall.axisym_with(ls, lt, trig);
             u += w * e.w;
-            // ∂λ_θ/∂q
-            let b = Vector4::new(nn[0] / rr, 0.0, nn[1] / rr, 0.0);
-            if let Some(f) = f.as_deref_mut() {
-                *f += w * (e.grad[0] * a + e.grad[1] * b);
-            }
-            if let Some(k) = k.as_deref_mut() {
-                let ab = a * b.transpose();
-                *k += w
-                    * (e.hess[0][0] * a * a.transpose()
-                        + e.hess[0][1] * (ab + ab.transpose())
-                        + e.hess[1][1] * b * b.transpose());
-                ws_sum += w * e.grad[0];
+            g_s += w * e.grad[0];
+            let wg = w * e.grad[1];
+            g_t[0] += wg * b1;
+            g_t[1] += wg * b2;
+            if k.is_some() {
+                h_ss += w * e.hess[0][0];
+                let wst = w * e.hess[0][1];
+                h_st[0] += wst * b1;
+                h_st[1] += wst * b2;
+                let wtt = w * e.hess[1][1];
+                h_tt[0] += wtt * b1 * b1;
+                h_tt[1] += wtt * b1 * b2;
+                h_tt[2] += wtt * b2 * b2;
             }
         }
+        if let Some(f) = f {
+            *f = g_s * a;
+            f[0] += g_t[0];
+            f[2] += g_t[1];
+        }
         // ------------------------------------------------------------------------ tangent
-        // ∂²λ_s/∂q² = (1/(L ℓ)) [P −P; −P P], P = I − n nᵀ
+        // h_ss a aᵀ + a cᵀ + c aᵀ + B (c = Σ w W_sθ b, B = Σ w W_θθ b bᵀ) plus
+        // Σ w W_s ∂²λ_s/∂q², ∂²λ_s/∂q² = (1/(L ℓ)) [P −P; −P P], P = I − n nᵀ
         if let Some(k) = k {
-            let c = ws_sum / (self.length * ell);
+            let c = Vector4::new(h_st[0], 0.0, h_st[1], 0.0);
+            let ac = a * c.transpose();
+            *k = h_ss * a * a.transpose() + ac + ac.transpose();
+            k[(0, 0)] += h_tt[0];
+            k[(0, 2)] += h_tt[1];
+            k[(2, 0)] += h_tt[1];
+            k[(2, 2)] += h_tt[2];
+            let cg = g_s * inv_len * inv_ell;
             let p = [
                 [1.0 - n[0] * n[0], -n[0] * n[1]],
                 [-n[0] * n[1], 1.0 - n[1] * n[1]],
             ];
             for i in 0..2 {
                 for j in 0..2 {
-                    let v = c * p[i][j];
+                    let v = cg * p[i][j];
                     k[(i, j)] += v;
                     k[(2 + i, 2 + j)] += v;
                     k[(i, 2 + j)] -= v;
@@ -158,6 +185,16 @@ impl AxisymMembrane {
         }
         u
     }
+}
+
+/// `(N₁/R, N₂/R, 2π R L/2)` at the two Gauss points of an element of reference length
+/// `length` [m] between reference radii `radius` [m].
+fn gauss_constants(length: f64, radius: [f64; 2]) -> [[f64; 3]; 2] {
+    GAUSS.map(|xi| {
+        let nn = shape(xi);
+        let rr = nn[0] * radius[0] + nn[1] * radius[1];
+        [nn[0] / rr, nn[1] / rr, 2.0 * PI * rr * 0.5 * length]
+    })
 }
 
 impl Element<4> for AxisymMembrane {
@@ -208,6 +245,7 @@ impl Element<4> for AxisymMembrane {
 /// runs from the top plate's bead down and around to the piston, it is the exact volume of the
 /// polygonal bag between plate, meridian and piston top (`shared/reference/air-spring-physics.md`
 /// §1.2).
+#[inline]
 pub fn frustum_volume(q: &SVector<f64, 4>) -> (f64, Vector4<f64>, Matrix4<f64>) {
     let (r1, z1, r2, z2) = (q[0], q[1], q[2], q[3]);
     let s = r1 * r1 + r1 * r2 + r2 * r2;

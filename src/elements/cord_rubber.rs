@@ -61,10 +61,11 @@ impl CordRubberWall {
             return e;
         }
         let k = self.cord_stiffness * self.n_plies as f64;
-        let d = [ls * c2 / lc, lt * s2 / lc];
+        let inv = 1.0 / lc;
+        let d = [ls * c2 * inv, lt * s2 * inv];
         let dd = [
-            [c2 / lc - d[0] * d[0] / lc, -d[0] * d[1] / lc],
-            [-d[0] * d[1] / lc, s2 / lc - d[1] * d[1] / lc],
+            [(c2 - d[0] * d[0]) * inv, -d[0] * d[1] * inv],
+            [-d[0] * d[1] * inv, (s2 - d[1] * d[1]) * inv],
         ];
         let fc = k * (lc - 1.0);
         e.w += 0.5 * k * (lc - 1.0).powi(2);

@@ -86,7 +86,9 @@ impl GeneralizedAlpha {
             // were on the pulleys, which the prediction has moved on: start with a fresh one
             // (belt drive, 100 elements: 3.2 iterations and 1.7 factorizations per step
             // instead of 5.2 and 2.0; modified Newton reuses it within the step)
-            ws.invalidate();
+            if !sys.prediction_keeps_matrix() {
+                ws.invalidate();
+            }
             for i in 0..acc.len() {
                 if q[i] != v[i] {
                     let ai = (q[i] - s0.q[i] - h * s0.v[i] - h * h * (0.5 - beta) * s0.a[i])

@@ -41,7 +41,9 @@ impl Midpoint {
         v.copy_from_slice(q);
         if sys.predict(&s0.q, &s0.v, h, q) {
             // start with a fresh iteration matrix, as generalized-α does (see there)
-            ws.invalidate();
+            if !sys.prediction_keeps_matrix() {
+                ws.invalidate();
+            }
             for i in 0..acc.len() {
                 if q[i] != v[i] {
                     acc[i] = 2.0 * (q[i] - s0.q[i] - h * s0.v[i]) / (h * h);

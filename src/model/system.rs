@@ -100,6 +100,28 @@ pub trait MechanicalSystem {
         false
     }
 
+    /// Whether the integrator may keep a factorized iteration matrix across a step that
+    /// [`MechanicalSystem::predict`] started (modified Newton goes on with it while it
+    /// contracts). Default: no, a prediction starts with a fresh matrix (the belts move their
+    /// material points along the pulleys, so the contact blocks of a kept matrix belong to
+    /// other points). A model whose prediction only moves the coordinates closer to where the
+    /// kept matrix was computed says yes.
+    fn prediction_keeps_matrix(&self) -> bool {
+        false
+    }
+
+    /// Whether modified Newton may accept the first iteration of a time step done with a kept
+    /// iteration matrix when its increment is within the tolerance, judging the remaining
+    /// error `θ/(1−θ)` times the increment by the contraction rate `θ` that matrix showed in
+    /// its last measured iteration (if at most [`crate::solver::newton::MODIFIED_NEWTON_RATE`]).
+    /// Default: no, such an iteration only measures the rate (a second iteration follows).
+    /// For a model with a predictor that lands within the tolerance (the air spring's
+    /// quasi-static one), one evaluation per step instead of two; the converged state moves
+    /// within the tolerance.
+    fn trusts_kept_contraction(&self) -> bool {
+        false
+    }
+
     /// Called by the static solver after every converged load increment with the free
     /// coordinates of that equilibrium. A model whose coordinates are increments from stored
     /// values (incremental rotation vectors) absorbs them here and resets `q` consistently, so

@@ -117,6 +117,11 @@ pub struct Workspace {
     pub scales: Vec<f64>,
     /// Coefficients of the iteration matrix currently factorized, if it may be reused.
     factored: Option<JacobianCoeffs>,
+    /// The contraction rate the factorized matrix showed in its last iteration with a measured
+    /// rate (see [`MechanicalSystem::trusts_kept_contraction`]).
+    kept_rate: Option<f64>,
+    /// Whether the first iteration of a solve with a kept matrix is judged by `kept_rate`.
+    trust_kept: bool,
 }
 
 impl Workspace {
@@ -138,6 +143,8 @@ impl Workspace {
             pattern: sys.pattern().clone(),
             scales: sys.scales().to_vec(),
             factored: None,
+            kept_rate: None,
+            trust_kept: sys.trusts_kept_contraction(),
         })
     }
 
@@ -156,6 +163,7 @@ impl Workspace {
     /// when the state jumped, e.g. at an FMU state restore).
     pub fn invalidate(&mut self) {
         self.factored = None;
+        self.kept_rate = None;
     }
 }
 
@@ -240,6 +248,7 @@ pub fn solve(
         it += 1;
         if fresh {
             ws.factored = None;
+            ws.kept_rate = None;
             ws.solver.factor(&ws.pattern, &ws.jac)?;
             ws.factored = Some(coeffs);
             stats.factorizations += 1;
@@ -272,13 +281,21 @@ pub fn solve(
         cuts = 0;
         // With linear convergence at rate θ the remaining error is about θ/(1−θ) times the
         // increment (Hairer & Wanner); with quadratic convergence the increment bounds it.
-        // A first increment with a kept (stale) matrix says nothing about the rate: iterate on.
+        // A first increment with a kept (stale) matrix says nothing about the rate: iterate on
+        // (unless the model trusts the rate the matrix showed in its last use, and that rate
+        // was fast).
         let estimate = if fresh {
             inc
         } else if last.is_finite() && rate < 1.0 {
+            ws.kept_rate = Some(rate);
             inc * rate / (1.0 - rate)
         } else if inc == 0.0 {
             0.0
+        } else if let Some(theta) = ws
+            .kept_rate
+            .filter(|&t| ws.trust_kept && t <= MODIFIED_NEWTON_RATE)
+        {
+            inc * theta / (1.0 - theta)
         } else {
             f64::INFINITY
         };
@@ -322,6 +339,8 @@ mod tests {
             pattern,
             scales: vec![1.0],
             factored: None,
+            kept_rate: None,
+            trust_kept: false,
         };
         let x0: f64 = 2.0;
         let full_step = x0 - x0.atan() * (1.0 + x0 * x0);
