@@ -254,7 +254,11 @@ mod tests {
         for c in 0..n {
             for r in c.saturating_sub(ku)..(c + kl + 1).min(n) {
                 entries.push((r, c));
-                let base = if r == c { 4.0 } else { 0.9 / (1.0 + (r as f64 - c as f64).abs()) };
+                let base = if r == c {
+                    4.0
+                } else {
+                    0.9 / (1.0 + (r as f64 - c as f64).abs())
+                };
                 dense[r][c] = sc(r) * base * sc(c);
             }
         }
@@ -281,7 +285,11 @@ mod tests {
                 assert!(lu.row_swaps() > 0);
             }
             lu.solve_in_place(&mut b);
-            let err = b.iter().zip(&x).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            let err = b
+                .iter()
+                .zip(&x)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
             assert!(err < 1e-10, "error {err}");
         };
         // plain partial pivoting would swap: a position entry exceeds the slope diagonal
