@@ -248,7 +248,7 @@ mod tests {
         let nodes = 40;
         let n = 2 * nodes;
         let (kl, ku) = (3usize, 3usize);
-        let sc = |i: usize| if i % 2 == 0 { 1.0 } else { 1e-2 };
+        let sc = |i: usize| if i.is_multiple_of(2) { 1.0 } else { 1e-2 };
         let mut entries = vec![];
         let mut dense = vec![vec![0.0; n]; n];
         for c in 0..n {
