@@ -23,9 +23,8 @@
 //! 4. The same sine through the FMI instance (`flexfmu::instance::Instance`: what an importer
 //!    pays per communication step, without the C ABI shims): fmi2SetReal of `top.z` and
 //!    `top.vz`, fmi2DoStep, and fmi2GetReal of `top.fz` alone or of every output. The
-//!    instance computes every output after each step (its output derivatives by differences
-//!    need the previous values), so a master pays for the stiffness output (level 2: the static
-//!    condensation) whether it reads it or not.
+//!    instance computes an output when it is read (`Instance::fresh`), so a master that reads
+//!    only the force does not pay for the stiffness output (level 2: the static condensation).
 //!
 //! Run: `cargo run --release --example bench_air_spring [out-dir] [name=value ...]` (default
 //! `build/bench`; `name=value` overrides a parameter of the scene, e.g. `solver.rho_inf=0.9`);
