@@ -212,17 +212,7 @@ mod tests {
     use crate::elements::finite_difference as fd;
     use nalgebra::DMatrix;
 
-    fn law() -> ContactLaw {
-        ContactLaw {
-            k_n: 2e7,
-            d_n: 3e3,
-            k_t: 1e7,
-            d_t: 1e3,
-            mu: 0.3,
-            smoothing: 5e-6,
-            blend: 0.05,
-        }
-    }
+    use crate::contact::test_laws::belt as law;
 
     /// Idler of R = 0.04 m on a 0.1 m arm at ψ = 0.7 rad; a point pressed in by 20 µm,
     /// moving with the idler's surface (plus 5 mm/s of slip and 10 mm/s normal) while the arm

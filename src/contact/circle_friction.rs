@@ -313,17 +313,7 @@ mod tests {
     use super::*;
     use crate::elements::finite_difference as fd;
 
-    fn law() -> ContactLaw {
-        ContactLaw {
-            k_n: 2e7,
-            d_n: 3e3,
-            k_t: 1e7,
-            d_t: 1e3,
-            mu: 0.3,
-            smoothing: 5e-6,
-            blend: 0.05,
-        }
-    }
+    use crate::contact::test_laws::belt as law;
 
     fn circle() -> Circle {
         Circle {

@@ -12,6 +12,8 @@ pub mod point_set;
 pub mod pulley3d;
 pub mod revolution;
 pub mod section3d;
+#[cfg(test)]
+mod test_laws;
 
 pub use arm_pulley::{ArmContact, ArmPulley};
 pub use circle_friction::{Circle, ContactLaw, PointContact, PointHistory, PointState};

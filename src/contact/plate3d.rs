@@ -240,17 +240,7 @@ mod tests {
     use crate::elements::rotation::exp_so3;
     use nalgebra::DMatrix;
 
-    fn law() -> ContactLaw {
-        ContactLaw {
-            k_n: 1e9,
-            d_n: 1e4,
-            k_t: 0.0,
-            d_t: 0.0,
-            mu: 0.0,
-            smoothing: 1e-5,
-            blend: 0.0,
-        }
-    }
+    use crate::contact::test_laws::frictionless as law;
 
     /// The closed-form normal is `exp(θ̃) e_z` (the shell kind's rotation of the plate), and
     /// its derivatives match central differences, at a large and at a tiny tilt (the series).

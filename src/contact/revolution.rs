@@ -703,17 +703,7 @@ mod tests {
         assert_close(&format!("{what}: d force / d rate"), &d, &fv, rtol_d, tiny);
     }
 
-    fn law() -> ContactLaw {
-        ContactLaw {
-            k_n: 1e9,
-            d_n: 1e4,
-            k_t: 0.0,
-            d_t: 0.0,
-            mu: 0.0,
-            smoothing: 1e-5,
-            blend: 0.0,
-        }
-    }
+    use crate::contact::test_laws::frictionless as law;
 
     /// The iteration block against finite differences of the force in position, obstacle
     /// coordinate and rates, on a tapered piston and the plate.
