@@ -37,8 +37,17 @@ pub trait MechanicalSystem {
     fn pattern(&self) -> &CscPattern;
 
     /// Characteristic size of each free coordinate (m for positions, 1 for gradients), used
-    /// to scale convergence norms.
+    /// to scale the local error estimate of adaptive steps and, unless
+    /// [`Self::newton_scales`] says otherwise, the Newton convergence test.
     fn scales(&self) -> &[f64];
+
+    /// Scales of the Newton convergence test (increment / scale against the Newton
+    /// tolerance); default [`Self::scales`]. A model whose coordinates mix units may measure
+    /// the increments of some in the length they move the body by (the belt drive's ANCF
+    /// slopes), without loosening the error estimate that sets adaptive step sizes.
+    fn newton_scales(&self) -> &[f64] {
+        self.scales()
+    }
 
     /// Residual `r = M a + f_int(q, v) − λ f_ext(t)` at time `t` [s] and, if asked, the
     /// iteration matrix values (in [`Self::pattern`]) for the given coefficients.

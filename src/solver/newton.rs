@@ -113,8 +113,11 @@ pub struct Workspace {
     pub solver: LinearSolver,
     /// Copy of the model's pattern.
     pub pattern: CscPattern,
-    /// Copy of the model's coordinate scales.
+    /// Copy of the model's Newton scales ([`MechanicalSystem::newton_scales`]).
     pub scales: Vec<f64>,
+    /// Copy of the model's coordinate scales for error estimates
+    /// ([`MechanicalSystem::scales`]).
+    pub error_scales: Vec<f64>,
     /// Coefficients of the iteration matrix currently factorized, if it may be reused.
     factored: Option<JacobianCoeffs>,
     /// The contraction rate the factorized matrix showed in its last iteration with a measured
@@ -141,7 +144,8 @@ impl Workspace {
             ],
             solver: LinearSolver::new(sys.pattern(), kind)?,
             pattern: sys.pattern().clone(),
-            scales: sys.scales().to_vec(),
+            scales: sys.newton_scales().to_vec(),
+            error_scales: sys.scales().to_vec(),
             factored: None,
             kept_rate: None,
             trust_kept: sys.trusts_kept_contraction(),

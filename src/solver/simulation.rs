@@ -332,17 +332,17 @@ impl Simulation {
         let Some(log) = self.rejections.as_mut() else {
             return;
         };
-        let (x, factor) = if from_error {
-            (&self.err, 1.0)
+        let (x, factor, scales) = if from_error {
+            (&self.err, 1.0, &self.ws.error_scales)
         } else {
             let f = match self.cfg.integrator {
                 Integrator::GeneralizedAlpha(g) => g.beta * h * h,
                 _ => 0.5 * h * h,
             };
-            (&self.ws.dx, f)
+            (&self.ws.dx, f, &self.ws.scales)
         };
         let (mut coordinate, mut value) = (0, 0.0);
-        for (k, (d, s)) in x.iter().zip(&self.ws.scales).enumerate() {
+        for (k, (d, s)) in x.iter().zip(scales).enumerate() {
             let e = (d * factor / s).abs();
             if e > value || e.is_nan() {
                 (coordinate, value) = (k, e);
@@ -719,7 +719,7 @@ impl Simulation {
                         h,
                         &mut self.err,
                     ) {
-                        let raw = scaled_max(&self.err, 1.0, &self.ws.scales);
+                        let raw = scaled_max(&self.err, 1.0, &self.ws.error_scales);
                         if adaptive {
                             let e = raw / self.cfg.tolerance;
                             factor = Some((0.9 * e.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 2.0));

@@ -127,6 +127,8 @@ pub struct Belt3d {
     pulley_dof: Vec<usize>,
     contact: SectionContactSet,
     scales: Vec<f64>,
+    /// Scales of the Newton convergence test (rotations in the length they move the belt by).
+    newton_scales: Vec<f64>,
     st: FramedState,
     book: ContactBook,
     /// Middle of each span of the mounted path (span `i` from pulley `i` to `i + 1`) [m].
@@ -355,6 +357,23 @@ impl Belt3d {
                     1.0
                 }
             })
+            .collect::<Vec<f64>>();
+        // Newton's convergence test: a node rotation increment δ moves the belt by about
+        // δ·l_e; measured as the planar drive's slopes (`belt_drive::model`, README "Belt
+        // Newton scales"): against path_length / (4 l_e). The error estimate keeps `scales`.
+        let rotation_scale = path_length / (4.0 * mounted);
+        let newton_scales = asm
+            .dofs
+            .free_to_full()
+            .iter()
+            .zip(&scales)
+            .map(|(&i, &s)| {
+                if i < n * NODE_DOFS && i % NODE_DOFS >= 3 {
+                    rotation_scale
+                } else {
+                    s
+                }
+            })
             .collect();
         let mut me = Self {
             spec,
@@ -363,6 +382,7 @@ impl Belt3d {
             pulley_dof,
             contact,
             scales,
+            newton_scales,
             st: FramedState::new(asm, frames, q0),
             book: ContactBook::default(),
             span_mid,
@@ -1139,6 +1159,10 @@ impl MechanicalSystem for Belt3d {
 
     fn scales(&self) -> &[f64] {
         &self.scales
+    }
+
+    fn newton_scales(&self) -> &[f64] {
+        &self.newton_scales
     }
 
     fn residual(
