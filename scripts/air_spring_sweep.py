@@ -220,6 +220,9 @@ def cases(fast):
             out.append(Case(f"{key}={v}", {key: v}, levels=(1, 2, 3)))
     for p in (2e5, 8e5):
         out.append(Case(f"p={p / 1e5:g}bar", {"gas.pressure_design": p}, levels=(1, 2, 3)))
+    out.append(Case("tension-only cords", {"bellows.tension_only": True}, levels=(1, 2)))
+    out.append(Case("friction 0.3, z0=0.22", {"contact.mu": 0.3}, z0=0.22, levels=(1, 2)))
+    out.append(Case("bending 0.027 N m", {"bellows.bending_stiffness": 0.027}))
     out.append(Case("n=1", {"gas.polytropic_exponent": 1.0}))
     out.append(Case("n=1.2", {"gas.polytropic_exponent": 1.2}))
     for z0 in (0.19, 0.22, 0.28, 0.31):
