@@ -1088,7 +1088,12 @@ impl MechanicalSystem for AirSpring {
         r: &mut [f64],
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let mode = if self.statics {
+        // Before the first accepted state (the consistent initial accelerations after the
+        // static solve) the gas is at rest in the static state the solve used: its committed
+        // state is still the design charge, whose step law would give another pressure off
+        // the design height with the energy law or a reservoir (the spring would start out
+        // of equilibrium and ring).
+        let mode = if self.statics || !self.initialized {
             Pressure::Static
         } else {
             Pressure::Step((t - self.t).max(0.0))

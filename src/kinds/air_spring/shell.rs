@@ -607,7 +607,21 @@ impl AirSpringShell {
         let pose = model.pose;
         model
             .continuation(pose, pose, Pressure::Fixed(pd))
-            .map_err(|e| format!("design state of the shell level: {e}"))?;
+            .map_err(|e| {
+                // an odd number of plies alternating +-angle leaves one family unbalanced: the
+                // shell level models the twist this couples to extension and pressure (the
+                // membrane level, axisymmetric without twist, cannot), and with a single ply
+                // the sleeve has nothing but the matrix against it
+                let unbalanced = if wall.n_plies % 2 == 1 {
+                    format!(
+                        "; {BELLOWS_N_PLIES} = {} is odd: the plies alternate +-{BELLOWS_CORD_ANGLE}, so one ply is unbalanced and twists the sleeve (the membrane level has no twist and treats the plies as balanced)",
+                        wall.n_plies
+                    )
+                } else {
+                    String::new()
+                };
+                format!("design state of the shell level: {e}{unbalanced}")
+            })?;
         let vd = model.bag_volume(&model.st.q, &pose);
         model.gas.charge(pd, vd).map_err(|e| gas_error(e, &gp))?;
         model.v_charge = model.gas.committed().volume;
@@ -1431,7 +1445,12 @@ impl MechanicalSystem for AirSpringShell {
         r: &mut [f64],
         jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> Result<(), ModelError> {
-        let mode = if self.statics {
+        // Before the first accepted state (the consistent initial accelerations after the
+        // static solve) the gas is at rest in the static state the solve used: its committed
+        // state is still the design charge, whose step law would give another pressure off
+        // the design height with the energy law or a reservoir (the spring would start out
+        // of equilibrium and ring).
+        let mode = if self.statics || !self.initialized {
             Pressure::Static
         } else {
             Pressure::Step((t - self.st.t).max(0.0))
