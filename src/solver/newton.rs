@@ -342,6 +342,7 @@ mod tests {
             solver: LinearSolver::new(&pattern, SolverKind::Auto).unwrap(),
             pattern,
             scales: vec![1.0],
+            error_scales: vec![1.0],
             factored: None,
             kept_rate: None,
             trust_kept: false,
