@@ -203,11 +203,34 @@ impl BandedLu {
 
     /// Solves `A x = b` in place with the last factorization.
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        self.solve_many_in_place(b);
+        let n = self.n;
+        let (kv, ldab) = (self.kl + self.ku, self.ldab);
+        for j in 0..n {
+            let l = self.ipiv[j];
+            if l != j {
+                b.swap(l, j);
+            }
+            let lm = self.kl.min(n - 1 - j);
+            let bj = b[j];
+            if bj != 0.0 {
+                let jj = kv + j * ldab;
+                axpy_neg(&mut b[j + 1..j + 1 + lm], &self.ab[jj + 1..jj + 1 + lm], bj);
+            }
+        }
+        // rows of U above j − ub in column j are zero: row j's entries reach column ju ≤ j + ub
+        let ub = self.ub;
+        for j in (0..n).rev() {
+            let jj = kv + j * ldab;
+            b[j] /= self.ab[jj];
+            let bj = b[j];
+            let i0 = j.saturating_sub(ub);
+            axpy_neg(&mut b[i0..j], &self.ab[jj - (j - i0)..jj], bj);
+        }
     }
 
     /// Solves `A X = B` in place for the right-hand sides stored one after the other in `b`
-    /// (column-major `n × k`, `b.len() = k n`): one pass over `L` and `U` for all of them.
+    /// (column-major `n × k`, `b.len() = k n`): one pass over `L` and `U` for all of them
+    /// (each column as [`Self::solve_in_place`] solves it).
     pub fn solve_many_in_place(&self, b: &mut [f64]) {
         let n = self.n;
         if n == 0 {
