@@ -233,6 +233,9 @@ impl BandedLu {
     /// (each column as [`Self::solve_in_place`] solves it).
     pub fn solve_many_in_place(&self, b: &mut [f64]) {
         let n = self.n;
+        if b.len() == n {
+            return self.solve_in_place(b);
+        }
         if n == 0 {
             return;
         }
