@@ -12,17 +12,82 @@
 //!   A/C compressor's 5 N m engaged over 50 ms at 0.4 t_end).
 //!
 //! Run: `cargo run --release --example bench_belt_predictor [scene] [n_elements] [t_end]
-//! [both|on|off] [name=value ...]` (defaults: belt_drive 100 1.0 both; further parameters by
-//! name, e.g. `solver.newton=1`). Timings are of this run on this machine: compare the ratios
-//! within one run.
+//! [both|on|off|percall] [name=value ...]` (defaults: belt_drive 100 1.0 both; further
+//! parameters by name, e.g. `solver.newton=1`). `percall` runs the protocol with the predictor
+//! to `t_end`, then times one Newton iteration's pieces on the state reached: the residual
+//! alone, the residual with the iteration matrix, a factorization and a solve [µs per call,
+//! best of 5 batches]. Timings are of this run on this machine: compare the ratios within one
+//! run.
 
 use flexfmu::kinds::belt_drive::model::BeltDrive;
+use flexfmu::linalg::{LinearSolver, SolverKind};
 use flexfmu::model::build_model;
+use flexfmu::model::{JacobianCoeffs, MechanicalSystem, Model};
 use flexfmu::scene::{ParamValues, Scene};
 use flexfmu::solver::simulation::{Simulation, SolverConfig};
 use flexfmu::variables::{Role, Value, VariableTable};
 use std::collections::BTreeMap;
 use std::time::Instant;
+
+/// Best-of-5 time per call [µs] of `f` over batches of `reps` calls.
+fn per_call(reps: usize, mut f: impl FnMut()) -> f64 {
+    (0..5)
+        .map(|_| {
+            let t = Instant::now();
+            for _ in 0..reps {
+                f();
+            }
+            t.elapsed().as_secs_f64() * 1e6 / reps as f64
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// One Newton iteration's pieces on the belt's state at the end of the run.
+fn pieces(sim: &mut Simulation) {
+    let t = sim.time();
+    let d = sim.model_as_mut::<BeltDrive>().unwrap();
+    let n = d.n_free();
+    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+    d.free_state(&mut q, &mut v);
+    let a = vec![0.0; n];
+    let mut r = vec![0.0; n];
+    let pattern = d.pattern().clone();
+    let mut vals = vec![0.0; pattern.nnz()];
+    let h = 1e-3;
+    let coeffs = JacobianCoeffs {
+        mass: 1.0,
+        damping: 0.5 * h,
+        stiffness: 0.25 * h * h,
+    };
+    let res = per_call(200, || {
+        d.residual(t, &q, &v, &a, 1.0, &mut r, None).unwrap();
+    });
+    let resjac = per_call(200, || {
+        d.residual(t, &q, &v, &a, 1.0, &mut r, Some((coeffs, &mut vals)))
+            .unwrap();
+    });
+    let mut solver = LinearSolver::new(&pattern, SolverKind::Auto).unwrap();
+    let fact = per_call(200, || solver.factor(&pattern, &vals).unwrap());
+    let mut b = r.clone();
+    let solve = per_call(1000, || {
+        b.copy_from_slice(&r);
+        solver.solve_in_place(&mut b);
+    });
+    let shape = match solver.backend() {
+        flexfmu::linalg::Backend::Bordered(s) => format!("{:?}", s.shape()),
+        _ => "not bordered".into(),
+    };
+    println!(
+        "coordinates {n}, nonzeros {}, (kl, ku, border) {shape}",
+        pattern.nnz()
+    );
+    println!("| piece | µs per call |");
+    println!("|---|---|");
+    println!("| residual alone | {res:.1} |");
+    println!("| residual + iteration matrix | {resjac:.1} |");
+    println!("| factorization | {fact:.1} |");
+    println!("| solve | {solve:.1} |");
+}
 
 struct Run {
     wall: f64,
@@ -37,7 +102,7 @@ struct Run {
     omega: Vec<f64>,
 }
 
-fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String]) -> Run {
+fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String], percall: bool) -> Run {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml"));
     let scene = Scene::from_path(&path).unwrap();
     let vars = VariableTable::from_scene(&scene);
@@ -168,6 +233,9 @@ fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String]) -> 
         }
     }
     let wall = start.elapsed().as_secs_f64();
+    if percall {
+        pieces(&mut sim);
+    }
     let s = sim.stats();
     Run {
         wall,
@@ -191,7 +259,7 @@ fn main() {
     let which = args.get(4).map_or("both", |s| s.as_str());
     let extra: Vec<String> = args.iter().skip(5).cloned().collect();
     let variants: &[bool] = match which {
-        "on" => &[true],
+        "on" | "percall" => &[true],
         "off" => &[false],
         _ => &[false, true],
     };
@@ -199,7 +267,7 @@ fn main() {
         "scene | elements | predictor | real-time factor | it/step | fact/step | backtracks/step | internal steps | rejected (error estimate) | omega 2..n at the end [rad/s]"
     );
     for &pred in variants {
-        let r = run(&name, n_el, t_end, pred, &extra);
+        let r = run(&name, n_el, t_end, pred, &extra, which == "percall");
         let comm = (t_end / 1e-3).round();
         println!(
             "{name} | {n_el} | {} | {:.3} | {:.2} | {:.2} | {:.2} | {} | {} ({}) | {:?}",

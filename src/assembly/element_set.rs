@@ -84,6 +84,25 @@ impl<const N: usize> Connectivity<N> {
             }
         }
     }
+
+    /// Adds `a · ma + b · mb` of row `e` into `vals` in one pass (two element matrices, e.g.
+    /// stiffness and damping, weighted by their iteration coefficients).
+    pub fn add_matrix2(
+        &self,
+        e: usize,
+        ma: &SMatrix<f64, N, N>,
+        a: f64,
+        mb: &SMatrix<f64, N, N>,
+        b: f64,
+        vals: &mut [f64],
+    ) {
+        let pos = &self.pos[e * N * N..(e + 1) * N * N];
+        for (p, (x, y)) in pos.iter().zip(ma.as_slice().iter().zip(mb.as_slice())) {
+            if *p != NONE {
+                vals[*p as usize] += a * x + b * y;
+            }
+        }
+    }
 }
 
 /// Elements of one type with their connectivity. A uniform mesh may share one element among
@@ -360,9 +379,11 @@ impl<E: Element<N>, const N: usize> ElementSet<E, N> {
                         Some((c, vals)) => {
                             let damped = c.damping != 0.0;
                             u += el.tangent_into(&s, &mut fe, &mut me, damped.then_some(&mut ce));
-                            self.conn.add_matrix(e, &me, c.stiffness, vals);
                             if damped {
-                                self.conn.add_matrix(e, &ce, c.damping, vals);
+                                self.conn
+                                    .add_matrix2(e, &me, c.stiffness, &ce, c.damping, vals);
+                            } else {
+                                self.conn.add_matrix(e, &me, c.stiffness, vals);
                             }
                         }
                         None => u += el.force_into(&s, &mut fe),

@@ -160,7 +160,8 @@ pub fn bristle_factor(f_norm: f64, f_trial_norm: f64) -> f64 {
 #[inline]
 pub fn wrap_angle(a: f64) -> f64 {
     use std::f64::consts::{PI, TAU};
-    let mut x = a % TAU;
+    // `a % TAU` is `a` itself for |a| < 2π (an exact remainder), without the call to fmod
+    let mut x = if a.abs() < TAU { a } else { a % TAU };
     if x > PI {
         x -= TAU;
     } else if x <= -PI {

@@ -420,15 +420,22 @@ impl AncfCable2d {
                 b += (p.w * s.damping_axial) * uvec * rpd.transpose();
                 let bc = (p.w * s.damping_axial) * uu;
                 for i in 0..4 {
-                    for j in 0..4 {
+                    for j in i..4 {
                         cb[i][j] += (p.d1[i] * p.d1[j]) * bc;
                     }
                 }
             }
+            // the factor s'_i s'_j is symmetric: blocks (j, i) equal blocks (i, j)
             for i in 0..4 {
-                for j in 0..4 {
+                for j in i..4 {
                     kb[i][j] += (p.d1[i] * p.d1[j]) * b;
                 }
+            }
+        }
+        for i in 1..4 {
+            for j in 0..i {
+                kb[i][j] = kb[j][i];
+                cb[i][j] = cb[j][i];
             }
         }
         for i in 0..4 {

@@ -63,12 +63,18 @@ impl BandedLu {
         (self.kl + self.ku + i - j) + j * self.ldab
     }
 
+    /// Index of `A(i, j)` in the band storage (`j − ku ≤ i ≤ j + kl`), for callers that
+    /// scatter their values themselves ([`Self::factor_entries`]).
+    pub fn band_index(&self, i: usize, j: usize) -> usize {
+        debug_assert!(i + self.ku >= j && i <= j + self.kl);
+        self.at(i, j)
+    }
+
     /// Factorizes the matrix with values `vals` in `pattern` (which must fit the bandwidths).
     pub fn factor(&mut self, pattern: &CscPattern, vals: &[f64]) -> Result<(), FactorError> {
-        let n = self.n;
         if self.map.len() != pattern.nnz() {
             // band position of every entry of the pattern (one pattern per factorization object)
-            self.map = (0..n)
+            self.map = (0..self.n)
                 .flat_map(|c| {
                     (pattern.col_ptr()[c]..pattern.col_ptr()[c + 1])
                         .map(move |k| (pattern.row_idx()[k], c))
@@ -76,53 +82,89 @@ impl BandedLu {
                 .map(|(r, c)| self.at(r, c))
                 .collect();
         }
-        self.ab.iter_mut().for_each(|v| *v = 0.0);
+        let map = std::mem::take(&mut self.map);
+        let res = self.factor_entries(map.iter().copied().zip(vals.iter().copied()));
+        self.map = map;
+        res
+    }
+
+    /// Factorizes the matrix given as `(band index, value)` pairs (band indices from
+    /// [`Self::band_index`]; positions not given are zero).
+    pub fn factor_entries(
+        &mut self,
+        entries: impl Iterator<Item = (usize, f64)>,
+    ) -> Result<(), FactorError> {
+        let n = self.n;
+        let (kl, ku, ldab) = (self.kl, self.ku, self.ldab);
+        let kv = kl + ku;
+        // Zero the storage. Rows 0..kl − (ub − ku) of every column (above U's last bandwidth
+        // `ub`) only receive the fill of row interchanges and are still zero.
+        let skip = kv - self.ub;
+        if skip == 0 {
+            self.ab.fill(0.0);
+        } else {
+            for col in self.ab.chunks_exact_mut(ldab) {
+                col[skip..].fill(0.0);
+            }
+        }
         let mut scale = 0.0f64;
         let mut finite = true;
-        for (&idx, &v) in self.map.iter().zip(vals) {
+        for (idx, v) in entries {
             finite &= v.is_finite();
             scale = scale.max(v.abs());
             self.ab[idx] = v;
         }
         if !finite {
+            self.ub = kv;
             return Err(FactorError::NonFinite);
         }
         // pivot scales d_i = 1/√|a_ii|; a zero diagonal takes the matrix's largest entry
         let fallback = if scale > 0.0 { 1.0 / scale.sqrt() } else { 1.0 };
-        for i in 0..n {
-            let a = self.ab[self.at(i, i)].abs();
-            self.scale[i] = if a > 0.0 { 1.0 / a.sqrt() } else { fallback };
+        for (i, d) in self.scale.iter_mut().enumerate() {
+            let a = self.ab[kv + i * ldab].abs();
+            *d = if a > 0.0 { 1.0 / a.sqrt() } else { fallback };
         }
         // Only exact or round-off-level pivots count as singular: thin, stiff beams legitimately have
         // pivots ~1e-13 of the largest entry.
         let tiny = scale * 1e-18;
-        let (kl, kv) = (self.kl, self.kl + self.ku);
         let mut ju = 0usize;
-        let mut ub = self.ku;
+        let mut ub = ku;
+        // until the elimination ends, the storage may hold fill above `ub` (a failed
+        // factorization leaves it there)
+        self.ub = kv;
         for j in 0..n {
             let km = kl.min(n - 1 - j);
+            let jj = kv + j * ldab;
             // pivot search in column j, rows j..=j+km, on the scaled magnitudes
-            let diag = self.ab[self.at(j, j)].abs() * self.scale[j];
-            let (mut jp, mut best) = (0, diag);
-            for r in 1..=km {
-                let v = self.ab[self.at(j + r, j)].abs() * self.scale[j + r];
-                if v > best {
-                    best = v;
-                    jp = r;
-                }
-            }
-            if jp != 0 && diag >= PIVOT_THRESHOLD * best {
-                jp = 0;
-            }
-            let best = self.ab[self.at(j + jp, j)].abs();
+            let (jp, best) = {
+                let col = &self.ab[jj..jj + km + 1];
+                let sc = &self.scale[j..j + km + 1];
+                let diag = col[0].abs() * sc[0];
+                // the largest scaled candidate below the diagonal (no index: the diagonal stays
+                // in almost every column), then the first row that reaches it if it must
+                let b = col[1..]
+                    .iter()
+                    .zip(&sc[1..])
+                    .fold(0.0f64, |b, (&a, &d)| b.max(a.abs() * d));
+                let jp = if b <= diag || diag >= PIVOT_THRESHOLD * b {
+                    0
+                } else {
+                    1 + col[1..]
+                        .iter()
+                        .zip(&sc[1..])
+                        .position(|(&a, &d)| a.abs() * d == b)
+                        .expect("the maximum is reached")
+                };
+                (jp, col[jp].abs())
+            };
             self.ipiv[j] = j + jp;
             if best <= tiny || best == 0.0 {
                 return Err(FactorError::Singular {
                     index: j,
-                    pivot: self.ab[self.at(j + jp, j)],
+                    pivot: self.ab[jj + jp],
                 });
             }
-            ju = ju.max((j + self.ku + jp).min(n - 1));
+            ju = ju.max((j + ku + jp).min(n - 1));
             ub = ub.max(ju - j);
             if jp != 0 {
                 for c in j..=ju {
@@ -133,24 +175,22 @@ impl BandedLu {
             }
             if km > 0 {
                 // In band storage the rows j+1..=j+km of any column are contiguous.
-                let jj = self.at(j, j);
                 let inv = 1.0 / self.ab[jj];
-                let (head, tail) = self.ab.split_at_mut((j + 1) * self.ldab);
-                let l = &mut head[jj + 1..jj + 1 + km];
+                let (head, tail) = self.ab.split_at_mut(jj + 1 + km);
+                let l = &mut head[jj + 1..];
                 l.iter_mut().for_each(|x| *x *= inv);
-                for c in (j + 1)..=ju {
-                    // A(j, c) in `tail`, column c starting at (c − j − 1) ldab
-                    let top = kv + j - c + (c - j - 1) * self.ldab;
+                let l: &[f64] = l;
+                // A(j, c) for c = j + 1 + k is at jj + (k + 1)(ldab − 1), i.e. in `tail` at
+                // (k + 1)(ldab − 1) − 1 − km; its column's rows j+1..=j+km follow it.
+                let stride = ldab - 1;
+                for k in 0..ju - j {
+                    let top = (k + 1) * stride - 1 - km;
                     let u = tail[top];
                     if u != 0.0 {
-                        let col = &mut tail[top + 1..top + 1 + km];
-                        for (x, &lr) in col.iter_mut().zip(l.iter()) {
-                            *x -= lr * u;
-                        }
+                        axpy_neg(&mut tail[top + 1..top + 1 + km], l, u);
                     }
                 }
             }
-            debug_assert!(kv >= self.ku);
         }
         self.ub = ub.min(kv);
         Ok(())
@@ -164,8 +204,7 @@ impl BandedLu {
     /// Solves `A x = b` in place with the last factorization.
     pub fn solve_in_place(&self, b: &mut [f64]) {
         let n = self.n;
-        // rows of U above j − ub in column j are zero: row j's entries reach column ju ≤ j + ub
-        let kv = self.ub;
+        let (kv, ldab) = (self.kl + self.ku, self.ldab);
         for j in 0..n {
             let l = self.ipiv[j];
             if l != j {
@@ -174,22 +213,70 @@ impl BandedLu {
             let lm = self.kl.min(n - 1 - j);
             let bj = b[j];
             if bj != 0.0 {
-                let jj = self.at(j, j);
-                let l = &self.ab[jj + 1..jj + 1 + lm];
-                for (x, &lr) in b[j + 1..j + 1 + lm].iter_mut().zip(l) {
-                    *x -= lr * bj;
+                let jj = kv + j * ldab;
+                axpy_neg(&mut b[j + 1..j + 1 + lm], &self.ab[jj + 1..jj + 1 + lm], bj);
+            }
+        }
+        // rows of U above j − ub in column j are zero: row j's entries reach column ju ≤ j + ub
+        let ub = self.ub;
+        for j in (0..n).rev() {
+            let jj = kv + j * ldab;
+            b[j] /= self.ab[jj];
+            let bj = b[j];
+            let i0 = j.saturating_sub(ub);
+            axpy_neg(&mut b[i0..j], &self.ab[jj - (j - i0)..jj], bj);
+        }
+    }
+
+    /// Solves `A X = B` in place for the right-hand sides stored one after the other in `b`
+    /// (column-major `n × k`, `b.len() = k n`): one pass over `L` and `U` for all of them
+    /// (each column as [`Self::solve_in_place`] solves it).
+    pub fn solve_many_in_place(&self, b: &mut [f64]) {
+        let n = self.n;
+        if b.len() == n {
+            return self.solve_in_place(b);
+        }
+        if n == 0 {
+            return;
+        }
+        debug_assert!(b.len().is_multiple_of(n));
+        let (kv, ldab) = (self.kl + self.ku, self.ldab);
+        for j in 0..n {
+            let l = self.ipiv[j];
+            let lm = self.kl.min(n - 1 - j);
+            let jj = kv + j * ldab;
+            let lcol = &self.ab[jj + 1..jj + 1 + lm];
+            for x in b.chunks_exact_mut(n) {
+                if l != j {
+                    x.swap(l, j);
+                }
+                let bj = x[j];
+                if bj != 0.0 {
+                    axpy_neg(&mut x[j + 1..j + 1 + lm], lcol, bj);
                 }
             }
         }
+        // rows of U above j − ub in column j are zero: row j's entries reach column ju ≤ j + ub
+        let ub = self.ub;
         for j in (0..n).rev() {
-            b[j] /= self.ab[self.at(j, j)];
-            let bj = b[j];
-            let i0 = j.saturating_sub(kv);
-            let u = &self.ab[self.at(i0, j)..self.at(j, j)];
-            for (x, &ur) in b[i0..j].iter_mut().zip(u) {
-                *x -= ur * bj;
+            let jj = kv + j * ldab;
+            let i0 = j.saturating_sub(ub);
+            let ucol = &self.ab[jj - (j - i0)..jj];
+            let d = self.ab[jj];
+            for x in b.chunks_exact_mut(n) {
+                x[j] /= d;
+                let bj = x[j];
+                axpy_neg(&mut x[i0..j], ucol, bj);
             }
         }
+    }
+}
+
+/// `x −= u l` over equal-length slices (the compiler vectorises the zipped loop).
+#[inline(always)]
+fn axpy_neg(x: &mut [f64], l: &[f64], u: f64) {
+    for (x, &lr) in x.iter_mut().zip(l) {
+        *x -= lr * u;
     }
 }
 
@@ -298,6 +385,66 @@ mod tests {
         // a zero pivot (the first diagonal, before any update) needs a row interchange
         dense[0][0] = 0.0;
         check(&dense, None);
+    }
+
+    /// A random banded system of size `n` (values from `seed`), optionally with a zero first
+    /// diagonal (a row interchange and the fill of `U` it brings).
+    fn random_band(
+        n: usize,
+        kl: usize,
+        ku: usize,
+        seed: u64,
+        zero_pivot: bool,
+    ) -> (CscPattern, Vec<f64>) {
+        let mut seed = seed;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        let mut entries = vec![];
+        for c in 0..n {
+            for r in c.saturating_sub(ku)..(c + kl + 1).min(n) {
+                entries.push((r, c));
+            }
+        }
+        let p = CscPattern::from_entries(n, entries);
+        let mut vals = vec![0.0; p.nnz()];
+        for c in 0..n {
+            for k in p.col_ptr()[c]..p.col_ptr()[c + 1] {
+                let r = p.row_idx()[k];
+                vals[k] = if r == c { 4.0 + rnd() } else { rnd() };
+                if zero_pivot && r == 0 && c == 0 {
+                    vals[k] = 0.0;
+                }
+            }
+        }
+        (p, vals)
+    }
+
+    /// One object refactorizing matrices with and without row interchanges (the storage is
+    /// only partly cleared between them) solves every one exactly as a fresh object does, and
+    /// the multi-column solve gives each column exactly as the single solve.
+    #[test]
+    fn refactorization_and_multi_column_solve_match_fresh_single_solves() {
+        let (n, kl, ku) = (30, 3, 2);
+        let rhs: Vec<f64> = (0..3 * n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mut lu = BandedLu::new(n, kl, ku);
+        for (seed, zero_pivot) in [(1, true), (2, false), (3, true), (4, false)] {
+            let (p, vals) = random_band(n, kl, ku, seed, zero_pivot);
+            let mut fresh = BandedLu::new(n, kl, ku);
+            fresh.factor(&p, &vals).unwrap();
+            assert_eq!(fresh.row_swaps() > 0, zero_pivot);
+            lu.factor(&p, &vals).unwrap();
+            let mut many = rhs.clone();
+            lu.solve_many_in_place(&mut many);
+            for (k, col) in many.chunks(n).enumerate() {
+                let mut single = rhs[k * n..(k + 1) * n].to_vec();
+                fresh.solve_in_place(&mut single);
+                assert_eq!(col, &single[..], "seed {seed}, column {k}");
+            }
+        }
     }
 
     #[test]
