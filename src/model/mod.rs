@@ -14,4 +14,6 @@ mod system;
 
 pub use factory::{build_model, build_model_to_restore};
 pub use sketch::Sketch;
-pub use system::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
+pub use system::{
+    JacobianCoeffs, MechanicalSystem, Model, ModelError, newton_scales_with_gradients,
+};

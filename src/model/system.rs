@@ -226,3 +226,46 @@ pub trait Model: MechanicalSystem + Send + std::any::Any {
         super::Sketch::default()
     }
 }
+
+/// Newton scales of a body whose node coordinates mix lengths with dimensionless gradients or
+/// rotations ([`MechanicalSystem::newton_scales`]): `scales` (per free coordinate) with every
+/// free coordinate whose full index `free_to_full[k]` satisfies `gradient` measured against
+/// `body_length / (4 l_e)` instead: a gradient or rotation increment δ moves the element's
+/// points by about δ·l_e (`l_e` [m], the element length; `body_length` [m] the positions'
+/// scale), and counting it as a position increment of 4 δ·l_e keeps the converged state as
+/// accurate as before on the belt drives (README "Belt Newton scales", session 28).
+pub fn newton_scales_with_gradients(
+    scales: &[f64],
+    free_to_full: &[usize],
+    gradient: impl Fn(usize) -> bool,
+    body_length: f64,
+    element_length: f64,
+) -> Vec<f64> {
+    let g = body_length / (4.0 * element_length);
+    free_to_full
+        .iter()
+        .zip(scales)
+        .map(|(&i, &s)| if gradient(i) { g } else { s })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::newton_scales_with_gradients;
+
+    /// Two free nodes of (x, y, x', y') and a pulley angle; node 1's x is fixed: the gradients
+    /// get L / (4 l_e), the positions and the angle keep their scales.
+    #[test]
+    fn gradient_coordinates_are_measured_by_the_length_they_move_an_element() {
+        let free_to_full = [0, 1, 2, 3, 5, 6, 7, 8];
+        let scales = [2.0, 2.0, 1.0, 1.0, 2.0, 1.0, 1.0, 1.0];
+        let s = newton_scales_with_gradients(
+            &scales,
+            &free_to_full,
+            |i| i < 8 && i % 4 >= 2,
+            2.0,
+            0.05,
+        );
+        assert_eq!(s, vec![2.0, 2.0, 10.0, 10.0, 2.0, 10.0, 10.0, 1.0]);
+    }
+}

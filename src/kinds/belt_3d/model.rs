@@ -41,7 +41,9 @@ use crate::linalg::CscPattern;
 use crate::meshers::belt_loop::{Loop, PitchCircle};
 use crate::model::framed::FramedState;
 use crate::model::inputs::{InputSignal, prescribed};
-use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
+use crate::model::{
+    JacobianCoeffs, MechanicalSystem, Model, ModelError, newton_scales_with_gradients,
+};
 use crate::scene::ParamValues;
 use crate::snapshot::{StateReader, StateWriter};
 use crate::solver::simulation::SolverConfig;
@@ -361,20 +363,13 @@ impl Belt3d {
         // Newton's convergence test: a node rotation increment δ moves the belt by about
         // δ·l_e; measured as the planar drive's slopes (`belt_drive::model`, README "Belt
         // Newton scales"): against path_length / (4 l_e). The error estimate keeps `scales`.
-        let rotation_scale = path_length / (4.0 * mounted);
-        let newton_scales = asm
-            .dofs
-            .free_to_full()
-            .iter()
-            .zip(&scales)
-            .map(|(&i, &s)| {
-                if i < n * NODE_DOFS && i % NODE_DOFS >= 3 {
-                    rotation_scale
-                } else {
-                    s
-                }
-            })
-            .collect();
+        let newton_scales = newton_scales_with_gradients(
+            &scales,
+            asm.dofs.free_to_full(),
+            |i| i < n * NODE_DOFS && i % NODE_DOFS >= 3,
+            path_length,
+            mounted,
+        );
         let mut me = Self {
             spec,
             set,

@@ -36,7 +36,9 @@ use crate::linalg::CscPattern;
 use crate::meshers::belt_loop::{Loop, PitchCircle};
 use crate::model::inputs::InputSignal;
 use crate::model::rates;
-use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
+use crate::model::{
+    JacobianCoeffs, MechanicalSystem, Model, ModelError, newton_scales_with_gradients,
+};
 use crate::scene::params::{
     ParamValues,
     names::{GRAVITY_X, GRAVITY_Y},
@@ -543,20 +545,13 @@ impl BeltDrive {
         // (before) a slope was held to l_e / L of the positions' tolerance (1/120 at 120
         // elements), which cost an iteration per step where contact points enter the arcs.
         // The error estimate of adaptive steps keeps the scales above.
-        let slope_scale = length_scale / (4.0 * mounted);
-        let newton_scales = asm
-            .dofs
-            .free_to_full()
-            .iter()
-            .zip(&scales)
-            .map(|(&i, &s)| {
-                if i < n_nodes * NC && i % NC >= 2 {
-                    slope_scale
-                } else {
-                    s
-                }
-            })
-            .collect();
+        let newton_scales = newton_scales_with_gradients(
+            &scales,
+            asm.dofs.free_to_full(),
+            |i| i < n_nodes * NC && i % NC >= 2,
+            length_scale,
+            mounted,
+        );
         let pitch = circles.iter().map(|c| c.radius).collect();
         let sag_coeff = lp.as_ref().map_or(0.0, |lp| {
             lp.spans
