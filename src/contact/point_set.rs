@@ -454,15 +454,7 @@ mod tests {
         Vec<f64>,
         Vec<f64>,
     ) {
-        let law = ContactLaw {
-            k_n: 2e7,
-            d_n: 3e3,
-            k_t: 1e7,
-            d_t: 1e3,
-            mu: 0.3,
-            smoothing: 5e-6,
-            blend: 0.05,
-        };
+        let law = crate::contact::test_laws::belt();
         let circle = Circle {
             center: Vector2::new(0.0, 0.0),
             radius: 0.1,

@@ -453,17 +453,7 @@ mod tests {
     use crate::elements::finite_difference as fd;
     use nalgebra::{DMatrix, UnitQuaternion};
 
-    fn law() -> ContactLaw {
-        ContactLaw {
-            k_n: 2e7,
-            d_n: 3e3,
-            k_t: 1e7,
-            d_t: 1e3,
-            mu: 0.3,
-            smoothing: 5e-6,
-            blend: 0.05,
-        }
-    }
+    use crate::contact::test_laws::belt as law;
 
     /// A crowned pulley (radius 0.1 m, rim half width 15 mm, crown 0.5 mm, flanges 5 mm
     /// high) with a skew axis off the origin, belt half width `b`.
