@@ -15,10 +15,15 @@ use flexfmu::kinds::air_spring::model::AirSpring;
 use flexfmu::kinds::air_spring::shell::AirSpringShell;
 use flexfmu::scene::{ParamValues, Scene};
 
-/// The reference spring with the bead inside the horizontal radius.
+/// The reference spring with the bead inside the horizontal radius, at 16 elements around (the
+/// mesh these comparisons were measured on).
 fn text() -> String {
     let t = std::fs::read_to_string(common::scene_path("air_spring")).unwrap();
-    with(&t, "bead_radius", "0.1025")
+    with(
+        &with(&t, "bead_radius", "0.1025"),
+        "n_circumferential",
+        "16",
+    )
 }
 
 fn build_shell(text: &str) -> AirSpringShell {

@@ -17,7 +17,8 @@ pub enum KnobRole {
     /// code is tried at every mesh and step level.
     Variant(&'static [i32]),
     /// An Integer resolution (element count, contact points per element): doubled per
-    /// refinement level, never below `min`. All counts of a scene move together by level.
+    /// refinement level, never below `min`. All counts of a scene move together by level. A
+    /// scene value of 0 (the model chooses the count) stays 0.
     Count {
         /// Smallest admissible value.
         min: i32,

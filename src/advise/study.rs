@@ -262,6 +262,10 @@ pub const MIN_ORDER: f64 = 0.5;
 
 /// The value of a knob at a ladder level for a base value.
 fn count_at(base: i32, min: i32, offset: i32) -> i32 {
+    if base == 0 {
+        // 0 = the model chooses (the air spring's automatic count around): it stays its choice
+        return 0;
+    }
     let v = base as f64 * 2f64.powi(offset);
     (v.round() as i32).max(min)
 }

@@ -327,6 +327,9 @@ impl Instance {
                 model.set_input(kind, *x);
             }
         }
+        if let Some(note) = model.build_note() {
+            self.info(note);
+        }
         let mut sim = Simulation::new(model, SolverConfig::from_params(&params), self.start_time)?;
         if initialize {
             for &(vr, order, value) in &self.pending_derivatives {

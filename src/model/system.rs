@@ -225,6 +225,12 @@ pub trait Model: MechanicalSystem + Send + std::any::Any {
     fn sketch(&self) -> super::Sketch {
         super::Sketch::default()
     }
+
+    /// What the model chose while it was built (e.g. an automatic mesh), for the importer's
+    /// log (category `logEvents`); `None` when it chose nothing.
+    fn build_note(&self) -> Option<String> {
+        None
+    }
 }
 
 /// Newton scales of a body whose node coordinates mix lengths with dimensionless gradients or

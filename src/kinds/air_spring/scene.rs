@@ -220,7 +220,7 @@ pub fn is_shell(s: &AirSpringScene) -> bool {
 }
 
 /// Elements around the sleeve of a shell scene when the scene does not say.
-pub const DEFAULT_N_CIRCUMFERENTIAL: i64 = 16;
+pub const DEFAULT_N_CIRCUMFERENTIAL: i64 = 0;
 
 /// Checks what the parameters cannot: the reservoir tables come together, the contour is
 /// increasing, the gas law is known.
@@ -614,8 +614,8 @@ pub fn params(s: &AirSpringScene) -> Result<Vec<ParamDef>, String> {
             MESH_N_CIRCUMFERENTIAL,
             Value::Integer(int_param(n, MESH_N_CIRCUMFERENTIAL)?),
             None,
-            "Elements around the sleeve (the rings are equal-area polygons: their nodes lie on circles enlarged so that each polygon encloses the circle's area)",
-            Check::IntRange(8, 10_000),
+            "Elements around the sleeve, at least 8 (the rings are equal-area polygons: their nodes lie on circles enlarged so that each polygon encloses the circle's area); 0 = automatic: the coarsest of 16, 24, 32 whose design force, at the design pressure and at half of it, is within 0.5 % of the membrane level's",
+            Check::IntRange(0, 10_000),
         ));
     }
     Ok(defs)
