@@ -187,7 +187,10 @@ impl Obstacle<2> for ArmPulley {
     fn committed(&self, p: &PointMotion<2>, x: &[f64], c: Option<&ArmContact>) -> PointHistory {
         let (z, f) = c.map_or((0.0, 0.0), |c| (c.inner.z, c.inner.friction));
         PointHistory {
-            phi: circle_friction::polar_angle(&self.circle(x[1]), p.r),
+            phi: c.map_or_else(
+                || circle_friction::polar_angle(&self.circle(x[1]), p.r),
+                |c| c.inner.phi,
+            ),
             theta: x[0],
             z,
             f,

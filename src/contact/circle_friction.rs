@@ -115,6 +115,9 @@ pub struct PointContact {
     pub friction: f64,
     /// Slip increment `Δs` since the last accepted step [m].
     pub slip_increment: f64,
+    /// Polar angle of the point about the circle's centre [rad] ([`polar_angle`]: the
+    /// history a commit stores, without a second `atan2`).
+    pub phi: f64,
     /// `∂(F_x, F_y, τ)/∂(r_x, r_y, θ)`.
     pub k: Matrix3<f64>,
     /// `∂(F_x, F_y, τ)/∂(v_x, v_y, ω)`.
@@ -304,6 +307,7 @@ pub fn evaluate(
         dissipation: w * law.d_n * ramp * vn * vn,
         friction: f,
         slip_increment: ds,
+        phi,
         k,
         c,
     })

@@ -202,7 +202,7 @@ impl Obstacle<2> for Circle {
     fn committed(&self, p: &PointMotion<2>, x: &[f64], c: Option<&PointContact>) -> PointHistory {
         let (z, f) = c.map_or((0.0, 0.0), |c| (c.z, c.friction));
         PointHistory {
-            phi: circle_friction::polar_angle(self, p.r),
+            phi: c.map_or_else(|| circle_friction::polar_angle(self, p.r), |c| c.phi),
             theta: x[0],
             z,
             f,

@@ -224,7 +224,6 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
                 }
                 let b = e * no + k;
                 let mut any = false;
-                blk.fill(0.0);
                 let d = self.blocks.dofs(b);
                 for i in 0..n_cp {
                     let (p, x, xd) = self.motion(b, i, q, v);
@@ -274,6 +273,9 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
                 }
                 if any && let Some((_, vals)) = jac.as_mut() {
                     self.blocks.add_matrix(b, &blk, 1.0, vals);
+                    // zeroed after use, not before every pair (most pairs have no point in
+                    // contact); a plain memset, not nalgebra's element iterator
+                    blk.as_mut_slice().fill(0.0);
                 }
             }
         }

@@ -311,9 +311,11 @@ impl AncfCable2d {
         let s = &self.section;
         let mut pw = 0.0;
         if s.damping_axial != 0.0 {
+            // ε̇ = u·ṙ' (`∂ε/∂q = s' ⊗ u`), without forming the 8-vector
             for p in &self.axial[..self.n_axial] {
-                let (_, _, _, de) = Self::axial_kin(p, q);
-                pw += p.w * s.damping_axial * de.dot(qd).powi(2);
+                let rp = combine(&p.d1, q);
+                let eps_dot = rp.dot(&combine(&p.d1, qd)) / rp.norm();
+                pw += p.w * s.damping_axial * eps_dot * eps_dot;
             }
         }
         if s.damping_bending != 0.0 {
