@@ -476,12 +476,12 @@ mod tests {
         let v = vec![0.4, -0.01, 0.0, 0.2, 0.5, 0.02, 0.1, 0.0, 2.0];
         // histories: the points were 20 µm further back along the circle, pulley turned less
         for (i, h) in set.hist.iter_mut().enumerate() {
-            *h = PointHistory {
-                phi: std::f64::consts::FRAC_PI_2 + 0.01 + 2e-4 * (i as f64 - 1.0),
-                theta: 0.2999,
-                z: 1e-7,
-                f: 0.5,
-            };
+            *h = PointHistory::at_angle(
+                std::f64::consts::FRAC_PI_2 + 0.01 + 2e-4 * (i as f64 - 1.0),
+                0.2999,
+                1e-7,
+                0.5,
+            );
         }
         (set, asm, q, v)
     }
