@@ -187,7 +187,7 @@ impl Obstacle<2> for ArmPulley {
     fn committed(&self, p: &PointMotion<2>, x: &[f64], c: Option<&ArmContact>) -> PointHistory {
         let (z, f) = c.map_or((0.0, 0.0), |c| (c.inner.z, c.inner.friction));
         PointHistory {
-            phi: circle_friction::polar_angle(&self.circle(x[1]), p.r),
+            dir: p.r - self.circle(x[1]).center,
             theta: x[0],
             z,
             f,
@@ -236,12 +236,7 @@ mod tests {
         // rolling with the idler while the arm swings, plus a little normal and slip speed
         let v = pulley.center_slope(x[1]) * xd[1] + (xd[0] * 0.04 + 0.005) * t + 0.01 * n;
         let p = PointMotion { r, v };
-        let h = PointHistory {
-            phi: a - 1e-4,
-            theta: 0.4 - 5e-5,
-            z: z_hist,
-            f: f_hist,
-        };
+        let h = PointHistory::at_angle(a - 1e-4, 0.4 - 5e-5, z_hist, f_hist);
         (pulley, p, x, xd, h)
     }
 
@@ -310,7 +305,7 @@ mod tests {
         let (pulley, mut p, x, _, _) = case(0.0, 0.0);
         p.v = Vector2::zeros();
         let h = PointHistory {
-            phi: circle_friction::polar_angle(&pulley.circle(x[1]), p.r),
+            dir: p.r - pulley.circle(x[1]).center,
             theta: x[0],
             z: 0.0,
             f: 0.0,

@@ -65,16 +65,39 @@ pub struct Circle {
 }
 
 /// Committed history of one (belt point, pulley) pair.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointHistory {
-    /// Polar angle of the point about the pulley centre at the last accepted step [rad].
-    pub phi: f64,
+    /// Direction of the point from the pulley centre at the last accepted step, `r − c` [m]
+    /// (any length > 0): the polar angle `φ` without an `atan2` per point and commit (issue
+    /// 12 item 2, session 29); [`evaluate`] takes the angle turned since,
+    /// `Δφ = atan2(d_n × d, d_n · d)`, which is `φ − φ_n` wrapped into (−π, π].
+    pub dir: Vector2<f64>,
     /// Pulley angle at the last accepted step [rad].
     pub theta: f64,
     /// Bristle deflection [m] (0 out of contact).
     pub z: f64,
     /// Friction force per unit length `f` at the last accepted step [N/m] (0 out of contact).
     pub f: f64,
+}
+
+/// At rest: polar angle 0 (direction `+x`), pulley angle 0, no bristle deflection.
+impl Default for PointHistory {
+    fn default() -> Self {
+        Self::at_angle(0.0, 0.0, 0.0, 0.0)
+    }
+}
+
+impl PointHistory {
+    /// The history of a point at polar angle `phi` [rad] about the centre, pulley angle
+    /// `theta` [rad], bristle deflection `z` [m] and friction `f` [N/m].
+    pub fn at_angle(phi: f64, theta: f64, z: f64, f: f64) -> Self {
+        Self {
+            dir: Vector2::new(phi.cos(), phi.sin()),
+            theta,
+            z,
+            f,
+        }
+    }
 }
 
 /// Kinematic state of a point and its pulley.
@@ -233,8 +256,8 @@ pub fn evaluate(
 
     // Slip increment and rate over the pitch circle (radius R).
     let big_r = circle.radius;
-    let phi = d.y.atan2(d.x);
-    let dphi = wrap_angle(phi - hist.phi);
+    let dn = hist.dir;
+    let dphi = (dn.x * d.y - dn.y * d.x).atan2(dn.x * d.x + dn.y * d.y);
     let dtheta = s.theta - hist.theta;
     let ds = rho * dphi - big_r * dtheta;
     let sdot = vt - s.omega * big_r;
@@ -374,12 +397,7 @@ mod tests {
             theta: 0.31,
             omega: 4.0,
         };
-        let h = PointHistory {
-            phi: 0.7 - 1e-4,
-            theta: 0.3101,
-            z: 1e-7,
-            f: 0.0,
-        };
+        let h = PointHistory::at_angle(0.7 - 1e-4, 0.3101, 1e-7, 0.0);
         (s, h)
     }
 
@@ -398,12 +416,7 @@ mod tests {
             theta: 0.0,
             omega: 2.0,
         };
-        let h = PointHistory {
-            phi: -0.4 + 2e-4,
-            theta: 0.0,
-            z: 0.0,
-            f: 0.0,
-        };
+        let h = PointHistory::at_angle(-0.4 + 2e-4, 0.0, 0.0, 0.0);
         check_jacobians(s, h, true);
         let s2 = PointState {
             r: at(-0.4, 0.1 - 2e-6),
@@ -411,12 +424,7 @@ mod tests {
             theta: 0.0,
             omega: 0.0,
         };
-        let h2 = PointHistory {
-            phi: -0.4,
-            theta: 0.0,
-            z: 1e-9,
-            f: 0.0,
-        };
+        let h2 = PointHistory::at_angle(-0.4, 0.0, 1e-9, 0.0);
         check_jacobians(s2, h2, false);
     }
 
@@ -428,12 +436,7 @@ mod tests {
             theta: 1.0,
             omega: -3.0,
         };
-        let h = PointHistory {
-            phi: 2.1,
-            theta: 0.9,
-            z: 0.0,
-            f: 0.0,
-        };
+        let h = PointHistory::at_angle(2.1, 0.9, 0.0, 0.0);
         check_jacobians(s, h, true);
     }
 
@@ -462,12 +465,7 @@ mod tests {
             v: omega * rho * t,
             ..s
         };
-        let hist = PointHistory {
-            phi: phi0,
-            theta: th0,
-            z: 0.0,
-            f: 0.0,
-        };
+        let hist = PointHistory::at_angle(phi0, th0, 0.0, 0.0);
         let r = evaluate(&law, &cir, 1e-2, &rigid, &hist).unwrap();
         assert!(
             (r.slip_increment + 1e-5 * (th1 - th0)).abs() < 1e-12,
@@ -475,12 +473,7 @@ mod tests {
             r.slip_increment
         );
         assert!(r.torque < 0.0, "the pulley is held back: {}", r.torque);
-        let h = PointHistory {
-            phi: phi0,
-            theta: th0,
-            z: 0.0,
-            f: 0.0,
-        };
+        let h = PointHistory::at_angle(phi0, th0, 0.0, 0.0);
         let r = evaluate(&law, &cir, 1e-2, &s, &h).unwrap();
         assert!(!r.slipping);
         assert!(r.torque.abs() < 1e-9, "{}", r.torque);
@@ -499,12 +492,7 @@ mod tests {
             omega: 0.0,
         };
         // the belt point moved by +1 mm along t (counter-clockwise) relative to the pulley
-        let h = PointHistory {
-            phi: -1e-3 / 0.1,
-            theta: 0.0,
-            z: 0.0,
-            f: 0.0,
-        };
+        let h = PointHistory::at_angle(-1e-3 / 0.1, 0.0, 0.0, 0.0);
         let r = evaluate(&law, &cir, 1e-2, &s, &h).unwrap();
         assert!(r.slipping);
         let fn_ = 1e-2 * law.k_n * (1e-4 - 0.5 * law.smoothing);
@@ -533,12 +521,7 @@ mod tests {
             theta: 0.0,
             omega: 0.0,
         };
-        let h = PointHistory {
-            phi: 1.0 - dphi,
-            theta: 0.0,
-            z: 0.0,
-            f: 0.0,
-        };
+        let h = PointHistory::at_angle(1.0 - dphi, 0.0, 0.0, 0.0);
         let r = evaluate(&law, &circle(), 1e-3, &s, &h).unwrap();
         let ratio =
             -r.force.dot(&Vector2::new(-(1.0f64).sin(), 1.0f64.cos())) / (1e-3 * law.mu * p);

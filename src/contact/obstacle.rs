@@ -120,14 +120,14 @@ pub trait Obstacle<const D: usize> {
 
 impl ContactHistory for PointHistory {
     fn save(&self, w: &mut StateWriter) {
-        for x in [self.phi, self.theta, self.z, self.f] {
+        for x in [self.dir.x, self.dir.y, self.theta, self.z, self.f] {
             w.f64(x);
         }
     }
 
     fn restore(r: &mut StateReader) -> Result<Self, SnapshotError> {
         Ok(Self {
-            phi: r.f64()?,
+            dir: nalgebra::Vector2::new(r.f64()?, r.f64()?),
             theta: r.f64()?,
             z: r.f64()?,
             f: r.f64()?,
@@ -202,7 +202,7 @@ impl Obstacle<2> for Circle {
     fn committed(&self, p: &PointMotion<2>, x: &[f64], c: Option<&PointContact>) -> PointHistory {
         let (z, f) = c.map_or((0.0, 0.0), |c| (c.z, c.friction));
         PointHistory {
-            phi: circle_friction::polar_angle(self, p.r),
+            dir: p.r - self.center,
             theta: x[0],
             z,
             f,

@@ -224,7 +224,6 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
                 }
                 let b = e * no + k;
                 let mut any = false;
-                blk.fill(0.0);
                 let d = self.blocks.dofs(b);
                 for i in 0..n_cp {
                     let (p, x, xd) = self.motion(b, i, q, v);
@@ -274,6 +273,9 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
                 }
                 if any && let Some((_, vals)) = jac.as_mut() {
                     self.blocks.add_matrix(b, &blk, 1.0, vals);
+                    // zeroed after use, not before every pair (most pairs have no point in
+                    // contact); a plain memset, not nalgebra's element iterator
+                    blk.as_mut_slice().fill(0.0);
                 }
             }
         }
@@ -474,12 +476,12 @@ mod tests {
         let v = vec![0.4, -0.01, 0.0, 0.2, 0.5, 0.02, 0.1, 0.0, 2.0];
         // histories: the points were 20 µm further back along the circle, pulley turned less
         for (i, h) in set.hist.iter_mut().enumerate() {
-            *h = PointHistory {
-                phi: std::f64::consts::FRAC_PI_2 + 0.01 + 2e-4 * (i as f64 - 1.0),
-                theta: 0.2999,
-                z: 1e-7,
-                f: 0.5,
-            };
+            *h = PointHistory::at_angle(
+                std::f64::consts::FRAC_PI_2 + 0.01 + 2e-4 * (i as f64 - 1.0),
+                0.2999,
+                1e-7,
+                0.5,
+            );
         }
         (set, asm, q, v)
     }

@@ -311,9 +311,11 @@ impl AncfCable2d {
         let s = &self.section;
         let mut pw = 0.0;
         if s.damping_axial != 0.0 {
+            // ε̇ = u·ṙ' (`∂ε/∂q = s' ⊗ u`), without forming the 8-vector
             for p in &self.axial[..self.n_axial] {
-                let (_, _, _, de) = Self::axial_kin(p, q);
-                pw += p.w * s.damping_axial * de.dot(qd).powi(2);
+                let rp = combine(&p.d1, q);
+                let eps_dot = rp.dot(&combine(&p.d1, qd)) / rp.norm();
+                pw += p.w * s.damping_axial * eps_dot * eps_dot;
             }
         }
         if s.damping_bending != 0.0 {
@@ -386,6 +388,22 @@ impl AncfCable2d {
     /// Internal force, tangent stiffness `K = ∂Q/∂q` [N/m] and damping matrix `C = ∂Q/∂q̇`
     /// [N s/m] (exact derivatives, including the geometric and velocity-dependent terms);
     /// returns the strain energy [J].
+    ///
+    /// Every term is accumulated in 2×2 node blocks (issue 12 item 2, session 29): the
+    /// coordinates of node vector `a` enter `r'` with `s'_a` and `r''` with `s''_a`, so
+    /// * axial: `∂ε/∂q_a = s'_a u`, and every axial matrix is `(s' s'ᵀ) ⊗ B` for a 2×2 block
+    ///   `B` per point (blocks `(j, i)` equal blocks `(i, j)`);
+    /// * bending (`K = c/g`, `c = r' × r''`, `g = r'·r'`): `∂K/∂q_a = s'_a P + s''_a Q` with
+    ///   `P = ∂K/∂r' = J r''/g − 2c r'/g²`, `Q = ∂K/∂r'' = Jᵀ r'/g` (`J = [[0, 1], [−1, 0]]`),
+    ///   and the Hessian of `½ EI K²` has the blocks
+    ///   `s'_a s'_b M11 + s'_a s''_b M12 + s''_a s'_b M12ᵀ + s''_a s''_b M22` with
+    ///   `M11 = EI P Pᵀ + M H11`, `M12 = EI P Qᵀ + M H12`, `M22 = EI Q Qᵀ` (`M = EI K`),
+    ///   `H11 = ∂²K/∂r'² = −2 (J r'' r'ᵀ + r' (J r'')ᵀ)/g² − 2c I/g² + 8c r' r'ᵀ/g³`,
+    ///   `H12 = ∂²K/∂r'∂r'' = J/g − 2 r' (Jᵀ r')ᵀ/g²` (`∂²K/∂r''² = 0`); `M11`, `M22` are
+    ///   symmetric, so blocks `(j, i)` are the transposes of blocks `(i, j)`.
+    ///
+    /// Only blocks `j ≥ i` are accumulated. With bending damping the bending terms take the
+    /// 8×8 path ([`Self::add_curvature_hessian`]).
     pub fn internal_force_tangent(
         &self,
         q: &ElemVec,
@@ -394,30 +412,39 @@ impl AncfCable2d {
         k: &mut ElemMat,
         c: &mut ElemMat,
     ) -> f64 {
-        *f = ElemVec::zeros();
-        *k = ElemMat::zeros();
-        *c = ElemMat::zeros();
         let s = &self.section;
         let mut u = 0.0;
         let damped_axial = s.damping_axial != 0.0;
         let damped_bending = s.damping_bending != 0.0;
-        // Axial terms: with ∂ε/∂q = s' ⊗ u, every axial matrix is (s' s'ᵀ) ⊗ B for a 2×2 block
-        // B, so the blocks are accumulated per point and expanded once per pair of nodes.
+        let mut fa = [Vector2::<f64>::zeros(); 4];
+        // axial blocks (mirrored as they are) and bending blocks (mirrored transposed)
         let (mut kb, mut cb) = ([[Matrix2::zeros(); 4]; 4], [[Matrix2::zeros(); 4]; 4]);
+        let mut kbb = [[Matrix2::zeros(); 4]; 4];
         for p in &self.axial[..self.n_axial] {
-            let (uvec, len, eps, de) = Self::axial_kin(p, q);
-            let eps_dot = de.dot(qd);
-            let n = s.ea * (eps - s.prestrain) + s.damping_axial * eps_dot;
-            *f += (p.w * n) * de;
-            u += 0.5 * p.w * s.ea * (eps - s.prestrain).powi(2);
+            let rp = combine(&p.d1, q);
+            let len = rp.norm();
+            let uvec = rp / len;
+            let strain = len - 1.0 - s.prestrain;
+            let mut n = s.ea * strain;
+            let rpd = if damped_axial {
+                let rpd = combine(&p.d1, qd);
+                n += s.damping_axial * uvec.dot(&rpd);
+                rpd
+            } else {
+                Vector2::zeros()
+            };
+            let a = (p.w * n) * uvec;
+            for (block, d1) in fa.iter_mut().zip(&p.d1) {
+                *block += *d1 * a;
+            }
+            u += 0.5 * p.w * s.ea * strain * strain;
             // ∂²ε/∂q_a∂q_b = s'_a s'_b (I − u uᵀ)/|r'|
-            let proj = (Matrix2::identity() - uvec * uvec.transpose()) / len;
             let uu = uvec * uvec.transpose();
+            let proj = (Matrix2::identity() - uu) / len;
             let mut b = (p.w * s.ea) * uu + (p.w * n) * proj;
             if damped_axial {
                 // ∂ε̇/∂q = q̇ᵀ ∂²ε = s' ⊗ (P ṙ')
-                let rpd = proj * combine(&p.d1, qd);
-                b += (p.w * s.damping_axial) * uvec * rpd.transpose();
+                b += (p.w * s.damping_axial) * uvec * (proj * rpd).transpose();
                 let bc = (p.w * s.damping_axial) * uu;
                 for i in 0..4 {
                     for j in i..4 {
@@ -425,33 +452,73 @@ impl AncfCable2d {
                     }
                 }
             }
-            // the factor s'_i s'_j is symmetric: blocks (j, i) equal blocks (i, j)
             for i in 0..4 {
                 for j in i..4 {
                     kb[i][j] += (p.d1[i] * p.d1[j]) * b;
                 }
             }
         }
-        for i in 1..4 {
-            for j in 0..i {
-                kb[i][j] = kb[j][i];
-                cb[i][j] = cb[j][i];
+        if !damped_bending {
+            for p in &self.bending[..self.n_bending] {
+                let rp = combine(&p.d1, q);
+                let rpp = combine(&p.d2, q);
+                let cv = rp.x * rpp.y - rp.y * rpp.x;
+                let inv_g = 1.0 / rp.dot(&rp);
+                let kv = cv * inv_g;
+                let jrpp = Vector2::new(rpp.y, -rpp.x);
+                let jtrp = Vector2::new(-rp.y, rp.x);
+                let pv = jrpp * inv_g - (2.0 * kv * inv_g) * rp;
+                let qv = jtrp * inv_g;
+                let m = s.ei * kv;
+                let (a, b) = ((p.w * m) * pv, (p.w * m) * qv);
+                for (block, (d1, d2)) in fa.iter_mut().zip(p.d1.iter().zip(&p.d2)) {
+                    *block += *d1 * a + *d2 * b;
+                }
+                u += 0.5 * p.w * s.ei * kv * kv;
+                let (outer, scale) = (p.w * s.ei, p.w * m);
+                let inv_g2 = inv_g * inv_g;
+                let h11 = (-2.0 * inv_g2) * (jrpp * rp.transpose() + rp * jrpp.transpose())
+                    + (8.0 * cv * inv_g2 * inv_g) * rp * rp.transpose()
+                    - Matrix2::from_diagonal_element(2.0 * cv * inv_g2);
+                let h12 =
+                    Matrix2::new(0.0, inv_g, -inv_g, 0.0) - (2.0 * inv_g2) * rp * jtrp.transpose();
+                let m11 = outer * pv * pv.transpose() + scale * h11;
+                let m12 = outer * pv * qv.transpose() + scale * h12;
+                let m21 = m12.transpose();
+                let m22 = outer * qv * qv.transpose();
+                for i in 0..4 {
+                    let (d1i, d2i) = (p.d1[i], p.d2[i]);
+                    let (r1, r2) = (d1i * m11 + d2i * m21, d1i * m12 + d2i * m22);
+                    for j in i..4 {
+                        kbb[i][j] += p.d1[j] * r1 + p.d2[j] * r2;
+                    }
+                }
             }
+        }
+        for (i, block) in fa.iter().enumerate() {
+            f[2 * i] = block.x;
+            f[2 * i + 1] = block.y;
         }
         for i in 0..4 {
-            for j in 0..4 {
-                k.fixed_view_mut::<2, 2>(2 * i, 2 * j).copy_from(&kb[i][j]);
+            for j in i..4 {
+                let kij = kb[i][j] + kbb[i][j];
+                k.fixed_view_mut::<2, 2>(2 * i, 2 * j).copy_from(&kij);
                 c.fixed_view_mut::<2, 2>(2 * i, 2 * j).copy_from(&cb[i][j]);
+                if j > i {
+                    let kji = kb[i][j] + kbb[i][j].transpose();
+                    k.fixed_view_mut::<2, 2>(2 * j, 2 * i).copy_from(&kji);
+                    c.fixed_view_mut::<2, 2>(2 * j, 2 * i).copy_from(&cb[i][j]);
+                }
             }
         }
-        for p in &self.bending[..self.n_bending] {
-            let (cv, g, kv, dc, dg, dk) = Self::bending_kin(p, q);
-            let k_dot = dk.dot(qd);
-            let m = s.ei * kv + s.damping_bending * k_dot;
-            *f += (p.w * m) * dk;
-            u += 0.5 * p.w * s.ei * kv * kv;
-            Self::add_curvature_hessian(p, cv, g, &dc, &dg, p.w * s.ei, p.w * m, k);
-            if damped_bending {
+        if damped_bending {
+            for p in &self.bending[..self.n_bending] {
+                let (cv, g, kv, dc, dg, dk) = Self::bending_kin(p, q);
+                let k_dot = dk.dot(qd);
+                let m = s.ei * kv + s.damping_bending * k_dot;
+                *f += (p.w * m) * dk;
+                u += 0.5 * p.w * s.ei * kv * kv;
+                Self::add_curvature_hessian(p, cv, g, &dc, &dg, p.w * s.ei, p.w * m, k);
                 let mut h = ElemMat::zeros();
                 Self::add_curvature_hessian(p, cv, g, &dc, &dg, 0.0, 1.0, &mut h);
                 let dk_dot = h * qd;

@@ -131,6 +131,15 @@ pub trait MechanicalSystem {
         false
     }
 
+    /// Contraction rate of the scaled increments above which modified Newton rebuilds and
+    /// refactorizes the iteration matrix [1]. A rebuild costs the matrix and a factorization,
+    /// a slower iteration with the kept matrix a residual and a solve: a model whose matrix
+    /// costs several residuals may accept slower contraction. Default
+    /// [`crate::solver::newton::MODIFIED_NEWTON_RATE`] (0.25).
+    fn modified_newton_rate(&self) -> f64 {
+        crate::solver::newton::MODIFIED_NEWTON_RATE
+    }
+
     /// Called by the static solver after every converged load increment with the free
     /// coordinates of that equilibrium. A model whose coordinates are increments from stored
     /// values (incremental rotation vectors) absorbs them here and resets `q` consistently, so

@@ -125,6 +125,9 @@ pub struct Workspace {
     kept_rate: Option<f64>,
     /// Whether the first iteration of a solve with a kept matrix is judged by `kept_rate`.
     trust_kept: bool,
+    /// Contraction rate above which modified Newton rebuilds the matrix
+    /// ([`MechanicalSystem::modified_newton_rate`]).
+    rebuild_rate: f64,
 }
 
 impl Workspace {
@@ -149,6 +152,7 @@ impl Workspace {
             factored: None,
             kept_rate: None,
             trust_kept: sys.trusts_kept_contraction(),
+            rebuild_rate: sys.modified_newton_rate(),
         })
     }
 
@@ -313,7 +317,7 @@ pub fn solve(
         // Rebuild when the iteration contracts slowly, or after a few iterations with the same
         // matrix (a kept matrix must not turn one step into many cheap but slow iterations).
         fresh = !modified
-            || (last.is_finite() && rate > MODIFIED_NEWTON_RATE)
+            || (last.is_finite() && rate > ws.rebuild_rate)
             || stale_iterations >= MODIFIED_NEWTON_MAX_REUSE;
         last = inc;
     }
@@ -346,6 +350,7 @@ mod tests {
             factored: None,
             kept_rate: None,
             trust_kept: false,
+            rebuild_rate: MODIFIED_NEWTON_RATE,
         };
         let x0: f64 = 2.0;
         let full_step = x0 - x0.atan() * (1.0 + x0 * x0);
