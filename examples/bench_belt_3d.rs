@@ -59,7 +59,7 @@ fn run(
         p.set("contact.width_points", Value::Integer(w));
     }
     for &(k, ref v) in &o.set {
-        p.set(k, v.clone());
+        p.set(k, *v);
     }
     if let Some(h) = o.max_step {
         p.set("solver.max_step", Value::Real(h));
