@@ -1,15 +1,23 @@
 //! Speed of the 3D belt (`scenes/belt_drive_3d.toml`) against the planar belt
-//! (`scenes/belt_drive.toml`, same belt and pulleys) at 60/120/240 elements: 0.3 s of
-//! running (pulley 1 ramped to 10 rad/s over 0.1 s, 5 N m load on pulley 2), 1 ms steps.
-//! Prints wall time, real-time factor (simulated / wall time, in process, without fmpy),
-//! failed (rejected) steps, Newton iterations and factorizations per step and the cost per
-//! element per Newton iteration; the 3D belt with and without its transport predictor
-//! (`Belt3d::set_transport_predictor`). Element counts from the command line (default 60 120
-//! 240). Timings are of this run
-//! on this machine; compare the ratios within one run. The 3D belt runs with the contact at
-//! the centre line (`contact.width_points` = 1) and across the width (3 points).
+//! (`scenes/belt_drive.toml`, same belt and pulleys) at 60/120/240 elements, 1 ms
+//! communication steps, over one of two protocols:
+//! * `slow` (default): 0.3 s of running, pulley 1 ramped to 10 rad/s over 0.1 s, 5 N m load on
+//!   pulley 2;
+//! * `fmpy` (`--protocol fmpy`): the protocol of `scripts/bench_belt.py` (pulley 1 ramped to
+//!   60 rad/s over 0.3 s, load ramped to 4 N m over 0.3 s), 0.6 s.
 //!
-//! `cargo run --release --example bench_belt_3d`
+//! Prints wall time, real-time factor (simulated / wall time, in process, without fmpy),
+//! accepted substeps and failed (rejected) steps, Newton iterations and factorizations per
+//! communication step and the cost per element per Newton iteration; the 3D belt with and
+//! without its transport predictor (`Belt3d::set_transport_predictor`), with the contact at
+//! the centre line (`contact.width_points` = 1) and across the width (3 points). `--only3`
+//! runs the planar belt and the 3D belt with 3 width points and the predictor only.
+//! `--set key=value` sets a scene parameter (integer or real). `--log` prints the rejections by coordinate kind (node position, node rotation, other) and
+//! cause (Newton or error estimate). `--max-step H` sets `solver.max_step` (a reference run).
+//! Element counts from the command line (default 60 120 240). Timings are of this run on this
+//! machine; compare the ratios within one run.
+//!
+//! `cargo run --release --example bench_belt_3d -- [--protocol fmpy] [--only3] [--log] [N ...]`
 
 use flexfmu::kinds::belt_3d::model::Belt3d;
 use flexfmu::model::build_model;
@@ -18,7 +26,30 @@ use flexfmu::solver::simulation::{RunStats, Simulation, SolverConfig};
 use flexfmu::variables::{Role, Value, VariableTable};
 use std::time::Instant;
 
-fn run(name: &str, n_el: i32, width_points: Option<i32>, predictor: bool) -> (f64, RunStats) {
+/// Driver protocol: final speed [rad/s], speed ramp [s], load [N m], load ramp [s], end [s].
+#[derive(Clone, Copy)]
+struct Protocol {
+    omega: f64,
+    t_ramp: f64,
+    load: f64,
+    t_load: f64,
+    t_end: f64,
+}
+
+struct Options {
+    protocol: Protocol,
+    log: bool,
+    max_step: Option<f64>,
+    set: Vec<(&'static str, Value)>,
+}
+
+fn run(
+    name: &str,
+    n_el: i32,
+    width_points: Option<i32>,
+    predictor: bool,
+    o: &Options,
+) -> (f64, RunStats, Option<Belt3dSummary>) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml"));
     let scene = Scene::from_path(&path).unwrap();
     let vars = VariableTable::from_scene(&scene);
@@ -26,6 +57,12 @@ fn run(name: &str, n_el: i32, width_points: Option<i32>, predictor: bool) -> (f6
     p.set("belt.n_elements", Value::Integer(n_el));
     if let Some(w) = width_points {
         p.set("contact.width_points", Value::Integer(w));
+    }
+    for &(k, ref v) in &o.set {
+        p.set(k, *v);
+    }
+    if let Some(h) = o.max_step {
+        p.set("solver.max_step", Value::Real(h));
     }
     let input = |n: &str| match vars.by_name(n).unwrap().role {
         Role::Input(k) => k,
@@ -43,60 +80,151 @@ fn run(name: &str, n_el: i32, width_points: Option<i32>, predictor: bool) -> (f6
         m.set_transport_predictor(predictor);
     }
     sim.initialize().unwrap();
+    sim.log_rejections(o.log);
+    let pr = o.protocol;
     let start = Instant::now();
-    let (h, t_end) = (1e-3, 0.3);
+    let h = 1e-3;
     let mut angle = 0.0;
-    for i in 0..(t_end / h) as usize {
+    let mut rejections = vec![];
+    for i in 0..(pr.t_end / h).round() as usize {
         let t = i as f64 * h;
-        let r = |t: f64| (t / 0.1_f64).min(1.0);
-        let w = 0.5 * 10.0 * (r(t) + r(t + h));
+        let r = |t: f64| (t / pr.t_ramp).min(1.0);
+        let w = 0.5 * pr.omega * (r(t) + r(t + h));
         sim.set_input(ia, angle);
         sim.set_input(iw, w);
-        sim.set_input(it, -5.0 * r(t));
+        sim.set_input(it, -pr.load * (t / pr.t_load).min(1.0));
         sim.advance(t + h).unwrap();
         angle += w * h;
+        if o.log {
+            rejections.extend(sim.take_rejections());
+        }
     }
     let wall = start.elapsed().as_secs_f64();
-    (wall, sim.stats())
+    if o.log && !rejections.is_empty() {
+        // node coordinates come first (6 per node, all free: the belt is a closed loop)
+        let n_node_dofs = 6 * n_el as usize;
+        let mut count = [[0usize; 3]; 2];
+        for r in &rejections {
+            let kind = if r.coordinate >= n_node_dofs {
+                2
+            } else if r.coordinate % 6 < 3 {
+                0
+            } else {
+                1
+            };
+            count[usize::from(r.newton.is_some())][kind] += 1;
+        }
+        println!(
+            "  rejections: error estimate (position/rotation/other) {:?}, Newton {:?}; first: {:?}",
+            count[0],
+            count[1],
+            &rejections[..rejections.len().min(3)]
+        );
+    }
+    let summary = sim.model_as::<Belt3d>().map(|m| Belt3dSummary {
+        tensions: m.span_tensions().to_vec(),
+        omega2: m.pulley_motion(1).1,
+        lateral: m.lateral(1),
+    });
+    (wall, sim.stats(), summary)
+}
+
+/// End state of a 3D belt run (compare substep settings).
+struct Belt3dSummary {
+    tensions: Vec<f64>,
+    omega2: f64,
+    lateral: f64,
 }
 
 fn main() {
-    let counts: Vec<i32> = std::env::args()
-        .skip(1)
-        .map(|a| a.parse().expect("element count"))
-        .collect();
-    let counts = if counts.is_empty() {
-        vec![60, 120, 240]
-    } else {
-        counts
+    let mut o = Options {
+        protocol: Protocol {
+            omega: 10.0,
+            t_ramp: 0.1,
+            load: 5.0,
+            t_load: 0.1,
+            t_end: 0.3,
+        },
+        log: false,
+        max_step: None,
+        set: vec![],
     };
+    let mut only3 = false;
+    let mut counts = vec![];
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--protocol" => {
+                if args.next().as_deref() == Some("fmpy") {
+                    o.protocol = Protocol {
+                        omega: 60.0,
+                        t_ramp: 0.3,
+                        load: 4.0,
+                        t_load: 0.3,
+                        t_end: 0.6,
+                    };
+                }
+            }
+            "--t-end" => o.protocol.t_end = args.next().unwrap().parse().unwrap(),
+            "--log" => o.log = true,
+            "--only3" => only3 = true,
+            "--max-step" => o.max_step = Some(args.next().unwrap().parse().unwrap()),
+            "--set" => {
+                let kv = args.next().unwrap();
+                let (k, v) = kv.split_once('=').expect("--set key=value");
+                let v = match v.parse::<i32>() {
+                    Ok(i) => Value::Integer(i),
+                    Err(_) => Value::Real(v.parse().unwrap()),
+                };
+                o.set.push((k.to_string().leak(), v));
+            }
+            n => counts.push(n.parse::<i32>().expect("element count")),
+        }
+    }
+    if counts.is_empty() {
+        counts = vec![60, 120, 240];
+    }
+    let t_end = o.protocol.t_end;
     println!(
-        "scene | elements | predictor | wall [s] for 0.3 s | real-time factor | steps | failed steps | Newton it./step | factorizations/step | us per element per iteration"
+        "scene | elements | predictor | wall [s] for {t_end} s | real-time factor | substeps | failed steps | Newton it./step | factorizations/step | substeps/step | us per element per iteration"
     );
-    for n in counts {
-        for (name, width, predictor) in [
+    let cases: &[(&str, Option<i32>, bool)] = if only3 {
+        &[("belt_drive", None, true), ("belt_drive_3d", Some(3), true)]
+    } else {
+        &[
             ("belt_drive", None, true),
             ("belt_drive_3d", Some(1), false),
             ("belt_drive_3d", Some(1), true),
             ("belt_drive_3d", Some(3), false),
             ("belt_drive_3d", Some(3), true),
-        ] {
-            let (wall, s) = run(name, n, width, predictor);
+        ]
+    };
+    for n in counts {
+        for &(name, width, predictor) in cases {
+            let (wall, s, summary) = run(name, n, width, predictor, &o);
             let name = match width {
                 Some(w) => format!("{name} (width_points {w})"),
                 None => name.to_string(),
             };
             let its = s.newton.iterations;
+            let comm = (t_end / 1e-3).round();
             println!(
-                "{name} | {n} | {} | {wall:.3} | {:.2} | {} | {} | {:.2} | {:.2} | {:.3}",
+                "{name} | {n} | {} | {wall:.3} | {:.3} | {} | {} | {:.2} | {:.2} | {:.2} | {:.3}",
                 if predictor { "on" } else { "off" },
-                0.3 / wall,
+                t_end / wall,
                 s.steps,
                 s.rejected,
-                its as f64 / s.steps as f64,
-                s.newton.factorizations as f64 / s.steps as f64,
+                its as f64 / comm,
+                s.newton.factorizations as f64 / comm,
+                s.steps as f64 / comm,
                 1e6 * wall / (n as f64 * its as f64)
             );
+            if let Some(b) = summary {
+                println!(
+                    "  end: span tensions {:?} N, omega2 {:.6} rad/s, lateral {:.3e} m",
+                    b.tensions, b.omega2, b.lateral
+                );
+            }
         }
     }
 }

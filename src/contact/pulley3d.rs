@@ -93,19 +93,26 @@ impl Pulley3d {
         }
     }
 
-    /// Axial position ζ, radius ρ, radial unit vector `e`, tangent `t` and polar angle φ of
-    /// the point `r`.
+    /// Axial position ζ, radius ρ, radial unit vector `e` and tangent `t` of the point `r`.
     #[inline]
-    fn frame(&self, r: &Vector3<f64>) -> (f64, f64, Vector3<f64>, Vector3<f64>, f64) {
+    fn frame(&self, r: &Vector3<f64>) -> (f64, f64, Vector3<f64>, Vector3<f64>) {
         let d = r - self.center;
         let zeta = self.axis.dot(&d);
         let dr = d - zeta * self.axis;
         let rho = dr.norm();
         let e = if rho > 0.0 { dr / rho } else { self.u1 };
         let t = self.axis.cross(&e);
+        (zeta, rho, e, t)
+    }
+
+    /// Polar angle φ [rad] of the point `r` about the axis from `u1` (an `atan2`: only where
+    /// the slip needs it, after the gap test).
+    #[inline]
+    fn polar_angle(&self, r: &Vector3<f64>) -> f64 {
+        let d = r - self.center;
+        let dr = d - self.axis.dot(&d) * self.axis;
         let u2 = self.axis.cross(&self.u1);
-        let phi = dr.dot(&u2).atan2(dr.dot(&self.u1));
-        (zeta, rho, e, t, phi)
+        dr.dot(&u2).atan2(dr.dot(&self.u1))
     }
 
     /// Pitch radius of the rim at axial position ζ: `R(ζ)`, `R'`, `R''` [m, 1, 1/m].
@@ -225,7 +232,7 @@ fn rim(
     res: &mut Pulley3dContact,
 ) -> bool {
     let a = pul.axis;
-    let (zeta, rho, e, t, phi) = pul.frame(&p.r);
+    let (zeta, rho, e, t) = pul.frame(&p.r);
     if zeta.abs() >= pul.half_width + pul.belt_half_width || rho <= 0.0 {
         return false;
     }
@@ -253,7 +260,7 @@ fn rim(
     let dp_dv = -(law.d_n * ramp) * ng.transpose();
 
     // slip increment and rate in (t, a)
-    let dphi = wrap_angle(phi - hist.phi);
+    let dphi = wrap_angle(pul.polar_angle(&p.r) - hist.phi);
     let dtheta = theta - hist.theta;
     let ds = Vector2::new(rho * dphi - rz * dtheta, zeta - hist.zeta);
     let sdot = Vector2::new(vt - omega * rz, va);
@@ -514,7 +521,8 @@ impl Obstacle<3> for Pulley3d {
         x: &[f64],
         c: Option<&Pulley3dContact>,
     ) -> Pulley3dHistory {
-        let (zeta, _, _, _, phi) = self.frame(&p.r);
+        let (zeta, ..) = self.frame(&p.r);
+        let phi = self.polar_angle(&p.r);
         let (z, f) = c
             .filter(|c| c.pressure > 0.0)
             .map_or(([0.0; 2], [0.0; 2]), |c| (c.z, c.friction));
