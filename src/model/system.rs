@@ -43,8 +43,9 @@ pub trait MechanicalSystem {
 
     /// Scales of the Newton convergence test (increment / scale against the Newton
     /// tolerance); default [`Self::scales`]. A model whose coordinates mix units may measure
-    /// the increments of some in the length they move the body by (the belt drive's ANCF
-    /// slopes), without loosening the error estimate that sets adaptive step sizes.
+    /// the increments of some in the length they move the body by (the planar belt drive's
+    /// ANCF slopes) while its error estimate keeps [`Self::scales`] (the 3D belt measures its
+    /// node rotations that way in both: its `scales` are these).
     fn newton_scales(&self) -> &[f64] {
         self.scales()
     }
