@@ -97,6 +97,13 @@ pub trait MechanicalSystem {
         false
     }
 
+    /// Halvings of a full-Newton increment that raised the residual norm, at most, before the
+    /// iteration goes on from the shortened increment (with [`Self::damped_newton`]).
+    /// Default: [`crate::solver::newton::LINE_SEARCH_MAX_CUTS`].
+    fn line_search_cuts(&self) -> usize {
+        crate::solver::newton::LINE_SEARCH_MAX_CUTS
+    }
+
     /// A start for the Newton iteration of a time step that is better than the integrator's
     /// own predictor. `q0`, `v0` are the free coordinates and velocities at the start of the
     /// step, `h` the step [s]; on entry `q1` holds the integrator's predicted coordinates at

@@ -128,6 +128,9 @@ pub struct Workspace {
     /// Contraction rate above which modified Newton rebuilds the matrix
     /// ([`MechanicalSystem::modified_newton_rate`]).
     rebuild_rate: f64,
+    /// Halvings of a full-Newton increment that raised the residual norm, at most
+    /// ([`MechanicalSystem::line_search_cuts`]).
+    max_cuts: usize,
 }
 
 impl Workspace {
@@ -153,6 +156,7 @@ impl Workspace {
             kept_rate: None,
             trust_kept: sys.trusts_kept_contraction(),
             rebuild_rate: sys.modified_newton_rate(),
+            max_cuts: sys.line_search_cuts(),
         })
     }
 
@@ -238,7 +242,7 @@ pub fn solve(
         let norm = ws.r.iter().map(|r| r * r).sum::<f64>().sqrt();
         if let Some((prev, alpha)) = line
             && (norm > LINE_SEARCH_RISE * prev || norm.is_nan())
-            && cuts < LINE_SEARCH_MAX_CUTS
+            && cuts < ws.max_cuts
             && settings.line_search
         {
             // The full-Newton increment (whose direction is one of descent for |r|²) did not
@@ -351,6 +355,7 @@ mod tests {
             kept_rate: None,
             trust_kept: false,
             rebuild_rate: MODIFIED_NEWTON_RATE,
+            max_cuts: LINE_SEARCH_MAX_CUTS,
         };
         let x0: f64 = 2.0;
         let full_step = x0 - x0.atan() * (1.0 + x0 * x0);
