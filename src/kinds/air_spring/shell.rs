@@ -355,11 +355,13 @@ impl AirSpringShell {
     /// With `mesh.n_circumferential` = 0 the count is chosen: the coarsest of
     /// [`AUTO_CIRCUMFERENTIAL`] whose design force, and the design force of the same spring
     /// charged to half the pressure, are within [`AUTO_FORCE_TOLERANCE`] of the membrane
-    /// level's (the axisymmetric start shape, built anyway; the closest count if none is). A sleeve rolled onto a
-    /// piston narrower than it is in hoop compression (λ_θ = r_piston / r_sleeve), and there
-    /// a coarse polygon ring misplaces the lobe: at 2 bar the 16-gon gives −7 % (8088 N against
-    /// 8690 N), 24 −0.5 %, 32 −0.1 % (README "Level 1 off its design"). With an odd ply count
-    /// (one ply unbalanced, which the membrane level cannot model) it takes the coarsest.
+    /// level's (the axisymmetric start shape, built anyway; the closest count if none is).
+    /// A sleeve rolled onto a piston narrower than it is in hoop compression
+    /// (λ_θ = r_piston / r_sleeve), and there a coarse polygon ring misplaces the lobe: at
+    /// 2 bar the 16-gon gives −7 % (8088 N against 8693 N), 24 −0.5 %, 32 −0.1 % (README
+    /// "Level 1 off its design"). With an odd ply count (one ply unbalanced, which the
+    /// membrane level cannot model) it takes the coarsest. The choice is deterministic in the
+    /// parameters, so a restored FMU state meets the mesh it was saved from.
     pub fn build(scene: &AirSpringScene, p: &ParamValues) -> Result<Self, String> {
         match p.integer(MESH_N_CIRCUMFERENTIAL) {
             0 => {}
@@ -1608,13 +1610,14 @@ impl MechanicalSystem for AirSpringShell {
 }
 
 impl Model for AirSpringShell {
-    /// Rings of nodes (ordered by angle) and meridian lines through the committed node
-    /// positions, at most 16 of each (evenly picked, first and last included) so that the
-    /// drawing stays legible.
+    /// What the automatic count around chose (`mesh.n_circumferential = 0`).
     fn build_note(&self) -> Option<String> {
         self.auto_note.clone()
     }
 
+    /// Rings of nodes (ordered by angle) and meridian lines through the committed node
+    /// positions, at most 16 of each (evenly picked, first and last included) so that the
+    /// drawing stays legible.
     fn sketch(&self) -> crate::model::Sketch {
         let (n_circ, n_mer) = self.mesh();
         let nodes = self.nodes();
