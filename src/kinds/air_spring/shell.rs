@@ -45,6 +45,7 @@
 //! coordinates move with the bead ring there, so the contact's dependence on the pose enters
 //! both the shape change and the load change.
 
+use super::model::AirSpring;
 use super::relax::{Pressure, Relaxation};
 use super::scene::{Input, Output, io, names::*, piston_contour};
 use super::table::{gas_error, gas_output, gas_params};
@@ -370,11 +371,14 @@ impl AirSpringShell {
                     "{MESH_N_CIRCUMFERENTIAL} = {n}: must be 0 (automatic) or at least 8"
                 ));
             }
-            n => return Self::build_with(scene, p, n as usize).map(|(m, _)| m),
+            n => return Self::build_with(scene, p, n as usize, &AirSpring::build(scene, p)?),
         }
+        // the axisymmetric design state of the membrane level: the shell's start shape and the
+        // reference of the automatic count
+        let axisym = AirSpring::build(scene, p)?;
         // with an odd ply count the membrane level (balanced plies, no twist) is no reference
         if p.integer(BELLOWS_N_PLIES) % 2 == 1 {
-            return Self::build_with(scene, p, AUTO_CIRCUMFERENTIAL[0]).map(|(m, _)| m);
+            return Self::build_with(scene, p, AUTO_CIRCUMFERENTIAL[0], &axisym);
         }
         // the design state and the same spring charged to half its pressure (the sleeve's
         // tension falls on extension, and the hoop compression on the piston matters more)
@@ -383,6 +387,8 @@ impl AirSpringShell {
             GAS_PRESSURE_DESIGN,
             Value::Real(0.5 * p.real(GAS_PRESSURE_DESIGN)),
         );
+        // no membrane equilibrium at half the pressure: no shell one is looked for either
+        let axisym_half = AirSpring::build(scene, &half).ok();
         let deviation = |m: &Self, f_membrane: f64| ((m.force[2] - f_membrane) / f_membrane).abs();
         // (model, deviation at the design pressure, at half of it: infinite without a shell
         // equilibrium there)
@@ -390,16 +396,18 @@ impl AirSpringShell {
         let mut first_error = None;
         let score = |d: f64, h: f64| (d.max(h), d);
         for &n in AUTO_CIRCUMFERENTIAL {
-            let (m, f_membrane) = match Self::build_with(scene, p, n) {
-                Ok(x) => x,
+            let m = match Self::build_with(scene, p, n, &axisym) {
+                Ok(m) => m,
                 Err(e) => {
                     first_error.get_or_insert(e);
                     continue;
                 }
             };
-            let dev = deviation(&m, f_membrane);
-            let dev_half = Self::build_with(scene, &half, n)
-                .map_or(f64::INFINITY, |(mh, fh)| deviation(&mh, fh));
+            let dev = deviation(&m, axisym.committed_force());
+            let dev_half = axisym_half.as_ref().map_or(f64::INFINITY, |a| {
+                Self::build_with(scene, &half, n, a)
+                    .map_or(f64::INFINITY, |mh| deviation(&mh, a.committed_force()))
+            });
             let done = dev.max(dev_half) <= AUTO_FORCE_TOLERANCE;
             if best
                 .as_ref()
@@ -438,18 +446,16 @@ impl AirSpringShell {
         }
     }
 
-    /// [`AirSpringShell::build`] with `n_circ` elements around; also returns the membrane
-    /// level's design force [N].
+    /// [`AirSpringShell::build`] with `n_circ` elements around from `axisym`, the membrane
+    /// level's design state of the same parameters `p`.
     fn build_with(
         scene: &AirSpringScene,
         p: &ParamValues,
         n_circ: usize,
-    ) -> Result<(Self, f64), String> {
+        axisym: &AirSpring,
+    ) -> Result<Self, String> {
         let n_mer = p.integer(MESH_N_MERIDIONAL).max(2) as usize;
         let s = equal_area_factor(n_circ);
-        // the axisymmetric design state of the membrane level
-        let axisym = super::model::AirSpring::build(scene, p)?;
-        let f_membrane = axisym.committed_force();
         let contour = piston_contour(scene, p);
         let clamp = *contour.last().expect("two points");
         let rb = p.real(TOP_PLATE_BEAD_RADIUS);
@@ -732,7 +738,7 @@ impl AirSpringShell {
         model
             .commit_reaction()
             .map_err(|e| gas_error(format!("design state: {e}"), &gp))?;
-        Ok((model, f_membrane))
+        Ok(model)
     }
 
     /// Number of elements `(around, along)`.
