@@ -193,13 +193,6 @@ pub fn wrap_angle(a: f64) -> f64 {
     x
 }
 
-/// Polar angle of `r` about the circle's centre [rad].
-#[inline]
-pub fn polar_angle(circle: &Circle, r: Vector2<f64>) -> f64 {
-    let d = r - circle.center;
-    d.y.atan2(d.x)
-}
-
 /// The smoothed normal penalty at the penetration `delta` > 0 [m]: elastic pressure `p_e`
 /// [N/m per unit length, N/m² per unit area], its slope, the damping ramp `s` and its slope,
 /// and the elastic energy density `∫ p_e dδ` (see the module notes). Shared by every obstacle.
