@@ -45,7 +45,7 @@ pub trait MechanicalSystem {
     /// tolerance); default [`Self::scales`]. A model whose coordinates mix units may measure
     /// the increments of some in the length they move the body by (the planar belt drive's
     /// ANCF slopes) while its error estimate keeps [`Self::scales`] (the 3D belt measures its
-    /// node rotations that way in both: its `scales` are these).
+    /// node rotations that way in both, through its `scales`).
     fn newton_scales(&self) -> &[f64] {
         self.scales()
     }

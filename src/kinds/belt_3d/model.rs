@@ -132,9 +132,9 @@ pub struct Belt3d {
     n_nodes: usize,
     pulley_dof: Vec<usize>,
     contact: SectionContactSet,
+    /// Coordinate scales of the Newton test and of the error estimate (rotations in the
+    /// length they move the belt by).
     scales: Vec<f64>,
-    /// Scales of the Newton convergence test (rotations in the length they move the belt by).
-    newton_scales: Vec<f64>,
     st: FramedState,
     book: ContactBook,
     /// Middle of each span of the mounted path (span `i` from pulley `i` to `i + 1`) [m].
@@ -352,7 +352,7 @@ impl Belt3d {
             spec.width_points,
             l0,
         );
-        let scales = asm
+        let lengths = asm
             .dofs
             .free_to_full()
             .iter()
@@ -366,21 +366,20 @@ impl Belt3d {
             .collect::<Vec<f64>>();
         // Newton's convergence test: a node rotation increment δ moves the belt by about
         // δ·l_e; measured as the planar drive's slopes (`belt_drive::model`, README "Belt
-        // Newton scales"): against path_length / (4 l_e).
-        let newton_scales = newton_scales_with_gradients(
-            &scales,
+        // Newton scales"): against path_length / (4 l_e). The local error estimate measures
+        // the rotations the same way, by the motion of the belt they cause: a node entering
+        // an arc spins up from 0 to v/R within a step (the kinematics of wrapping, computed
+        // correctly by the step), and its rotation's estimate h² (β − 1/6) Δα (0.1 rad at
+        // 4.9 m/s and 1 ms steps) counted in radians halved every substep of the running
+        // drive while moving the belt by 0.1·l_e (session 29, issue 13 item 5). The positions
+        // keep the path length.
+        let scales = newton_scales_with_gradients(
+            &lengths,
             asm.dofs.free_to_full(),
             |i| i < n * NODE_DOFS && i % NODE_DOFS >= 3,
             path_length,
             mounted,
         );
-        // The local error estimate measures the rotations the same way, by the motion of the
-        // belt they cause: a node entering an arc spins up from 0 to v/R within a step (the
-        // kinematics of wrapping, computed correctly by the step), and its rotation's
-        // estimate h² (β − 1/6) Δα (0.1 rad at 4.9 m/s and 1 ms steps) counted in radians
-        // halved every substep of the running drive while moving the belt by 0.1·l_e
-        // (session 29, issue 13 item 5). The positions keep the path length.
-        let scales = newton_scales.clone();
         let mut me = Self {
             spec,
             set,
@@ -388,7 +387,6 @@ impl Belt3d {
             pulley_dof,
             contact,
             scales,
-            newton_scales,
             st: FramedState::new(asm, frames, q0),
             book: ContactBook::default(),
             span_mid,
@@ -1165,10 +1163,6 @@ impl MechanicalSystem for Belt3d {
 
     fn scales(&self) -> &[f64] {
         &self.scales
-    }
-
-    fn newton_scales(&self) -> &[f64] {
-        &self.newton_scales
     }
 
     fn residual(
