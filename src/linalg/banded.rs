@@ -38,6 +38,11 @@ pub struct BandedLu {
     /// interchanges, at most `kl + ku` (the back substitution skips the band above it, which
     /// holds exact zeros).
     ub: usize,
+    /// Reciprocals of `U`'s diagonal (the back substitution multiplies: a division on its
+    /// dependency chain costs several times a multiplication).
+    inv_diag: Vec<f64>,
+    /// Whether the last factorization interchanged rows (else the solves skip the pivots).
+    swapped: bool,
 }
 
 impl BandedLu {
@@ -54,6 +59,8 @@ impl BandedLu {
             scale: vec![0.0; n],
             map: Vec::new(),
             ub: kl + ku,
+            inv_diag: vec![0.0; n],
+            swapped: true,
         }
     }
 
@@ -193,6 +200,10 @@ impl BandedLu {
             }
         }
         self.ub = ub.min(kv);
+        for (j, d) in self.inv_diag.iter_mut().enumerate() {
+            *d = 1.0 / self.ab[kv + j * ldab];
+        }
+        self.swapped = (0..n).any(|j| self.ipiv[j] != j);
         Ok(())
     }
 
@@ -206,9 +217,11 @@ impl BandedLu {
         let n = self.n;
         let (kv, ldab) = (self.kl + self.ku, self.ldab);
         for j in 0..n {
-            let l = self.ipiv[j];
-            if l != j {
-                b.swap(l, j);
+            if self.swapped {
+                let l = self.ipiv[j];
+                if l != j {
+                    b.swap(l, j);
+                }
             }
             let lm = self.kl.min(n - 1 - j);
             let bj = b[j];
@@ -221,7 +234,7 @@ impl BandedLu {
         let ub = self.ub;
         for j in (0..n).rev() {
             let jj = kv + j * ldab;
-            b[j] /= self.ab[jj];
+            b[j] *= self.inv_diag[j];
             let bj = b[j];
             let i0 = j.saturating_sub(ub);
             axpy_neg(&mut b[i0..j], &self.ab[jj - (j - i0)..jj], bj);
@@ -262,9 +275,9 @@ impl BandedLu {
             let jj = kv + j * ldab;
             let i0 = j.saturating_sub(ub);
             let ucol = &self.ab[jj - (j - i0)..jj];
-            let d = self.ab[jj];
+            let d = self.inv_diag[j];
             for x in b.chunks_exact_mut(n) {
-                x[j] /= d;
+                x[j] *= d;
                 let bj = x[j];
                 axpy_neg(&mut x[i0..j], ucol, bj);
             }
