@@ -239,7 +239,12 @@ pub fn solve(
         } else {
             eval(x, &mut ws.r, None)?;
         }
-        let norm = ws.r.iter().map(|r| r * r).sum::<f64>().sqrt();
+        // the residual norm only steers the backtracking
+        let norm = if settings.line_search {
+            ws.r.iter().map(|r| r * r).sum::<f64>().sqrt()
+        } else {
+            0.0
+        };
         if let Some((prev, alpha)) = line
             && (norm > LINE_SEARCH_RISE * prev || norm.is_nan())
             && cuts < ws.max_cuts
