@@ -4,11 +4,13 @@
 mod central_difference;
 mod generalized_alpha;
 mod midpoint;
+mod quasi_static;
 mod scheme;
 mod state;
 
 pub use central_difference::CentralDifference;
 pub use generalized_alpha::GeneralizedAlpha;
 pub use midpoint::Midpoint;
+pub use quasi_static::QuasiStatic;
 pub use scheme::Integrator;
 pub use state::DynState;

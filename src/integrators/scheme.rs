@@ -1,6 +1,6 @@
 //! The integrator chosen by `solver.integrator`.
 
-use super::{CentralDifference, DynState, GeneralizedAlpha, Midpoint};
+use super::{CentralDifference, DynState, GeneralizedAlpha, Midpoint, QuasiStatic};
 use crate::model::MechanicalSystem;
 use crate::solver::newton::{NewtonError, NewtonSettings, NewtonStats, Workspace};
 
@@ -13,6 +13,9 @@ pub enum Integrator {
     Midpoint(Midpoint),
     /// Explicit central differences.
     CentralDifference(CentralDifference),
+    /// Static equilibrium at the end of every step, no inertia (statically supported models
+    /// only, [`MechanicalSystem::set_quasi_static`]).
+    QuasiStatic(QuasiStatic),
 }
 
 impl Integrator {
@@ -22,8 +25,14 @@ impl Integrator {
             1 => Integrator::GeneralizedAlpha(GeneralizedAlpha::from_rho_inf(rho_inf)),
             3 => Integrator::Midpoint(Midpoint),
             4 => Integrator::CentralDifference(CentralDifference),
+            5 => Integrator::QuasiStatic(QuasiStatic),
             _ => Integrator::GeneralizedAlpha(GeneralizedAlpha::newmark()),
         }
+    }
+
+    /// Whether the scheme drops inertia (a static solve per step).
+    pub fn is_quasi_static(&self) -> bool {
+        matches!(self, Integrator::QuasiStatic(_))
     }
 
     /// Whether the scheme is explicit (its step is bounded by stability, not accuracy).
@@ -47,11 +56,12 @@ impl Integrator {
             Integrator::GeneralizedAlpha(g) => g.step(sys, ws, settings, s0, h, s1),
             Integrator::Midpoint(m) => m.step(sys, ws, settings, s0, h, s1),
             Integrator::CentralDifference(c) => c.step(sys, ws, constant_mass, s0, h, s1),
+            Integrator::QuasiStatic(s) => s.step(sys, ws, settings, s0, h, s1),
         }
     }
 
     /// Local displacement error estimate of an implicit step (Zienkiewicz & Xie 1991), `None`
-    /// for explicit schemes.
+    /// for explicit schemes and for quasi-static steps.
     pub fn error_estimate(&self, s0: &DynState, s1: &DynState, h: f64, out: &mut [f64]) -> bool {
         match self {
             Integrator::GeneralizedAlpha(g) => {
@@ -63,7 +73,8 @@ impl Integrator {
                 GeneralizedAlpha::newmark().error_estimate(s0, s1, h, out);
                 true
             }
-            Integrator::CentralDifference(_) => false,
+            // no time-integration error of its own: a sequence of equilibria
+            Integrator::CentralDifference(_) | Integrator::QuasiStatic(_) => false,
         }
     }
 }

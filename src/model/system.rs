@@ -148,6 +148,16 @@ pub trait MechanicalSystem {
         crate::solver::newton::MODIFIED_NEWTON_RATE
     }
 
+    /// Switches the model to quasi-static steps (`solver.integrator = "quasi_static"`,
+    /// [`crate::integrators::QuasiStatic`]): no inertia, an equilibrium at the end of every
+    /// step. Returns whether the model supports it: only a model whose every free coordinate
+    /// is held by stiffness (not by inertia alone) has an equilibrium to solve for. Default:
+    /// no (a free pulley, a belt running along its path or a free-flying beam are held by their
+    /// inertia).
+    fn set_quasi_static(&mut self, _on: bool) -> bool {
+        false
+    }
+
     /// Called by the static solver after every converged load increment with the free
     /// coordinates of that equilibrium. A model whose coordinates are increments from stored
     /// values (incremental rotation vectors) absorbs them here and resets `q` consistently, so

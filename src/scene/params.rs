@@ -70,6 +70,7 @@ pub const INTEGRATORS: &[(&str, i32)] = &[
     ("newmark", 2),
     ("midpoint", 3),
     ("central_difference", 4),
+    ("quasi_static", 5),
 ];
 /// Newton variants (values of `solver.newton`).
 pub const NEWTON_VARIANTS: &[(&str, i32)] = &[("full", 1), ("modified", 2)];

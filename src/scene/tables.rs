@@ -99,8 +99,8 @@ pub struct SolverSection {
     /// Solve the static equilibrium during initialization.
     #[serde(default)]
     pub static_equilibrium: bool,
-    /// Time integrator: `"generalized_alpha"` (1), `"newmark"` (2), `"midpoint"` (3) or
-    /// `"central_difference"` (4).
+    /// Time integrator: `"generalized_alpha"` (1), `"newmark"` (2), `"midpoint"` (3),
+    /// `"central_difference"` (4) or `"quasi_static"` (5, statically supported models only).
     #[serde(default = "default_integrator")]
     pub integrator: Choice,
     /// Spectral radius at infinite frequency for generalized-alpha, in [0, 1].

@@ -174,8 +174,13 @@ impl std::fmt::Debug for Simulation {
 impl Simulation {
     /// Prepares buffers and the factorization for `model` at time `t0`, from its committed
     /// state.
-    pub fn new(model: Box<dyn Model>, mut cfg: SolverConfig, t0: f64) -> Result<Self, String> {
+    pub fn new(mut model: Box<dyn Model>, mut cfg: SolverConfig, t0: f64) -> Result<Self, String> {
         cfg.newton.line_search = model.damped_newton();
+        if cfg.integrator.is_quasi_static() && !model.set_quasi_static(true) {
+            return Err(
+                "solver.integrator = quasi_static: this model does not offer quasi-static steps (the air spring's levels do; a belt drive's pulleys and running belt are held by their inertia); use an inertial integrator".into(),
+            );
+        }
         let ws = Workspace::new(model.as_ref(), cfg.linear).map_err(|e| e.to_string())?;
         let n = model.n_free();
         let mut state = DynState::zeros(n, t0);
@@ -230,6 +235,13 @@ impl Simulation {
     /// step instead of jumping (see [`Model::hold_prescribed_motion`]).
     fn restart_accelerations(&mut self, hold_ports: bool) -> Result<(), String> {
         let n = self.state.q.len();
+        if self.cfg.integrator.is_quasi_static() {
+            // no inertia: the accelerations are not unknowns
+            self.state.acc.fill(0.0);
+            self.state.a.fill(0.0);
+            self.inputs_changed = false;
+            return Ok(());
+        }
         self.model.hold_prescribed_motion(hold_ports);
         self.trial.a.iter_mut().for_each(|x| *x = 0.0);
         let coeffs = JacobianCoeffs {
@@ -337,6 +349,8 @@ impl Simulation {
         } else {
             let f = match self.cfg.integrator {
                 Integrator::GeneralizedAlpha(g) => g.beta * h * h,
+                // the unknown is the coordinates themselves
+                Integrator::QuasiStatic(_) => 1.0,
                 _ => 0.5 * h * h,
             };
             (&self.ws.dx, f, &self.ws.scales)

@@ -48,6 +48,16 @@ use crate::snapshot::{StateReader, StateWriter};
 use nalgebra::{SVector, Vector3};
 use std::cell::{Cell, RefCell};
 
+/// Weights of quadratic Lagrange extrapolation through the abscissae `x` (distinct) at `x1`.
+fn lagrange3(x: [f64; 3], x1: f64) -> [f64; 3] {
+    let [a, b, c] = x;
+    [
+        (x1 - b) * (x1 - c) / ((a - b) * (a - c)),
+        (x1 - a) * (x1 - c) / ((b - a) * (b - c)),
+        (x1 - a) * (x1 - b) / ((c - a) * (c - b)),
+    ]
+}
+
 /// Elements, contact and pattern over one split of the coordinates into free and prescribed.
 #[derive(Clone, Debug)]
 struct Mech {
@@ -259,7 +269,12 @@ pub struct AirSpring {
     /// quasi-static predictor ([`MechanicalSystem::predict`]); the first `n_history` valid.
     history_q: [Vec<f64>; 3],
     history_z: [f64; 3],
+    /// Times of those commits [s].
+    history_t: [f64; 3],
     n_history: usize,
+    /// Quasi-static steps (`solver.integrator = "quasi_static"`): the wall has no inertia
+    /// and no kinetic energy.
+    quasi_static: bool,
 }
 
 impl std::fmt::Debug for AirSpring {
@@ -464,6 +479,7 @@ impl AirSpring {
             v_charge: 0.0,
             strain: Cell::new(Some(0.0)),
             kinetic: 0.0,
+            quasi_static: false,
             plate_work: 0.0,
             contact_loss: 0.0,
             last_damping_power: 0.0,
@@ -472,6 +488,7 @@ impl AirSpring {
             midpoint: vec![0.0; n_main],
             history_q: [vec![0.0; n_main], vec![0.0; n_main], vec![0.0; n_main]],
             history_z: [0.0; 3],
+            history_t: [0.0; 3],
             n_history: 0,
         };
         model.solve_design(pd)?;
@@ -950,11 +967,18 @@ impl AirSpring {
         res?;
         // the strain energy of the residual just evaluated (elements and hinges)
         self.strain.set(Some(self.last_strain));
-        self.kinetic = self
-            .main
-            .elements
-            .kinetic_energy(&self.work.q, &self.work.v, None);
+        self.kinetic = self.kinetic_energy(&self.work.q, &self.work.v);
         Ok(self.plate_force())
+    }
+
+    /// Kinetic energy of the wall [J] at full coordinates `q`, velocities `v` (0 in
+    /// quasi-static steps, whose equations have no inertia).
+    fn kinetic_energy(&self, q: &[f64], v: &[f64]) -> f64 {
+        if self.quasi_static {
+            0.0
+        } else {
+            self.main.elements.kinetic_energy(q, v, None)
+        }
     }
 
     /// The strain energy of the committed meridian [J] (elements and hinges), computed on the
@@ -1018,7 +1042,7 @@ impl AirSpring {
             .subtract_element_forces(0, &w.q, &w.v, &mut rows);
         let plate = self.main.contact.loads()[1].generalized[0];
         let force = -(rows[1] - plate);
-        self.kinetic = self.main.elements.kinetic_energy(&w.q, &w.v, None);
+        self.kinetic = self.kinetic_energy(&w.q, &w.v);
         if !force.is_finite() {
             return Err(ModelError::NonFinite);
         }
@@ -1159,12 +1183,21 @@ impl MechanicalSystem for AirSpring {
         let (d1, d0, dm) = (z1 - za, za - zb, zb - zc);
         // monotone heights (a step of either sign is fine), at most 3 times the last spacings
         let monotone = (d1 > 0.0 && d0 > 0.0 && dm > 0.0) || (d1 < 0.0 && d0 < 0.0 && dm < 0.0);
-        if !monotone || d1.abs() > 3.0 * d0.abs().min(dm.abs()) {
+        let weights = if monotone && d1.abs() <= 3.0 * d0.abs().min(dm.abs()) {
+            lagrange3([za, zb, zc], z1)
+        } else if self.quasi_static {
+            // Quasi-static steps: the plate at rest or turning, the shape a smooth function of
+            // time through the equilibria (the same extrapolation in t).
+            let [ta, tb, tc] = self.history_t;
+            let t1 = self.t + h;
+            if !(ta > tb && tb > tc) || t1 - ta > 3.0 * (ta - tb).min(tb - tc) {
+                return false;
+            }
+            lagrange3([ta, tb, tc], t1)
+        } else {
             return false;
-        }
-        let la = (z1 - zb) * (z1 - zc) / ((za - zb) * (za - zc));
-        let lb = (z1 - za) * (z1 - zc) / ((zb - za) * (zb - zc));
-        let lc = (z1 - za) * (z1 - zb) / ((zc - za) * (zc - zb));
+        };
+        let [la, lb, lc] = weights;
         let [qa, qb, qc] = &self.history_q;
         for i in 0..q1.len() {
             q1[i] = la * qa[i] + lb * qb[i] + lc * qc[i];
@@ -1179,6 +1212,13 @@ impl MechanicalSystem for AirSpring {
 
     /// With the quasi-static predictor most steps start within the tolerance of the solution.
     fn trusts_kept_contraction(&self) -> bool {
+        true
+    }
+
+    /// The wall is held by the bead and the clamp, the plate's motion is prescribed and the
+    /// gas pressure inflates it: every coordinate has its equilibrium, inertia is optional.
+    fn set_quasi_static(&mut self, on: bool) -> bool {
+        self.quasi_static = on;
         true
     }
 
@@ -1331,8 +1371,10 @@ impl Model for AirSpring {
         self.commits += 1;
         self.history_q.rotate_right(1);
         self.history_z.rotate_right(1);
+        self.history_t.rotate_right(1);
         self.main.asm.dofs.restrict(&self.q, &mut self.history_q[0]);
         self.history_z[0] = self.height;
+        self.history_t[0] = self.t;
         self.n_history = (self.n_history + 1).min(3);
     }
 
@@ -1367,6 +1409,7 @@ impl Model for AirSpring {
         // the predictor's history: a restored run predicts as the original one
         w.u64(self.n_history as u64);
         w.f64s(&self.history_z);
+        w.f64s(&self.history_t);
         for q in &self.history_q {
             w.f64s(q);
         }
@@ -1398,6 +1441,7 @@ impl Model for AirSpring {
         self.gas.restore(r).map_err(e)?;
         self.n_history = (r.u64().map_err(e)? as usize).min(3);
         r.f64s_into(&mut self.history_z).map_err(e)?;
+        r.f64s_into(&mut self.history_t).map_err(e)?;
         for q in self.history_q.iter_mut() {
             r.f64s_into(q).map_err(e)?;
         }

@@ -351,6 +351,11 @@ impl MechanicalSystem for AirSpringTable {
         0
     }
 
+    /// No coordinates: every integrator steps only the gas.
+    fn set_quasi_static(&mut self, _on: bool) -> bool {
+        true
+    }
+
     fn pattern(&self) -> &CscPattern {
         &self.pattern
     }
