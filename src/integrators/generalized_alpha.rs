@@ -105,7 +105,9 @@ impl GeneralizedAlpha {
             coeffs,
             |x, r, jac| {
                 update(x, q, v, a);
-                sys.residual(t1, q, v, x, 1.0, r, jac.map(|j| (coeffs, j)))
+                let built = jac.is_some();
+                sys.residual(t1, q, v, x, 1.0, r, jac.map(|j| (coeffs, j)))?;
+                Ok(built || sys.kept_matrix_current())
             },
         );
         update(&acc, q, v, a);

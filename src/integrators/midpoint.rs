@@ -59,7 +59,9 @@ impl Midpoint {
             coeffs,
             |x, r, jac| {
                 update(x, q, v);
-                sys.midpoint_residual(s0.t, s0.t + h, &s0.q, q, v, x, r, jac.map(|j| (coeffs, j)))
+                let built = jac.is_some();
+                sys.midpoint_residual(s0.t, s0.t + h, &s0.q, q, v, x, r, jac.map(|j| (coeffs, j)))?;
+                Ok(built || sys.kept_matrix_current())
             },
         );
         for i in 0..acc.len() {

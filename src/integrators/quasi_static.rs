@@ -49,7 +49,9 @@ impl QuasiStatic {
             for i in 0..x.len() {
                 v[i] = (x[i] - s0.q[i]) / h;
             }
-            sys.residual(t1, x, v, a, 1.0, r, jac.map(|j| (coeffs, j)))
+            let built = jac.is_some();
+            sys.residual(t1, x, v, a, 1.0, r, jac.map(|j| (coeffs, j)))?;
+            Ok(built || sys.kept_matrix_current())
         });
         for i in 0..q.len() {
             s1.v[i] = (q[i] - s0.q[i]) / h;

@@ -148,6 +148,15 @@ pub trait MechanicalSystem {
         crate::solver::newton::MODIFIED_NEWTON_RATE
     }
 
+    /// Whether an iteration matrix built at an earlier evaluation still describes the last
+    /// residual evaluated without one (called by Newton's method after every evaluation with a
+    /// kept matrix). A model with contact answers no when the points in contact changed since
+    /// the matrix was built (its penalty blocks belong to other points); Newton then rebuilds
+    /// the matrix before taking the increment. Default: yes.
+    fn kept_matrix_current(&self) -> bool {
+        true
+    }
+
     /// Switches the model to quasi-static steps (`solver.integrator = "quasi_static"`,
     /// [`crate::integrators::QuasiStatic`]): no inertia, an equilibrium at the end of every
     /// step. Returns whether the model supports it: only a model whose every free coordinate

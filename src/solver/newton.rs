@@ -204,7 +204,9 @@ pub fn scaled_max(dx: &[f64], factor: f64, scales: &[f64]) -> f64 {
 }
 
 /// Solves `F(x) = 0` by Newton's method. `eval(x, r, jac)` fills the residual and, when
-/// `jac` is given, the iteration matrix for the coefficients `coeffs`. `increment_factor`
+/// `jac` is given, the iteration matrix for the coefficients `coeffs`; it returns whether a
+/// matrix built earlier still describes this residual (always true when it built one; see
+/// [`MechanicalSystem::kept_matrix_current`]), else the iteration rebuilds it. `increment_factor`
 /// converts an increment of `x` into coordinate units for the convergence test (`β h²` when
 /// `x` is an acceleration). With [`NewtonPolicy::Modified`], a factorization of the same
 /// coefficients from an earlier solve is reused while the iteration contracts fast.
@@ -221,7 +223,7 @@ pub fn solve(
     settings: &NewtonSettings,
     increment_factor: f64,
     coeffs: JacobianCoeffs,
-    mut eval: impl FnMut(&[f64], &mut [f64], Option<&mut [f64]>) -> Result<(), ModelError>,
+    mut eval: impl FnMut(&[f64], &mut [f64], Option<&mut [f64]>) -> Result<bool, ModelError>,
 ) -> Result<NewtonStats, NewtonError> {
     let modified = settings.policy == NewtonPolicy::Modified;
     let mut stats = NewtonStats::default();
@@ -236,8 +238,13 @@ pub fn solve(
     while it < settings.max_iterations {
         if fresh {
             eval(x, &mut ws.r, Some(&mut ws.jac))?;
-        } else {
-            eval(x, &mut ws.r, None)?;
+        } else if !eval(x, &mut ws.r, None)? {
+            // the kept matrix no longer describes the residual (contact points changed):
+            // evaluate again with a new one
+            fresh = true;
+            last = f64::INFINITY;
+            line = None;
+            continue;
         }
         // the residual norm only steers the backtracking
         let norm = if settings.line_search {
@@ -382,7 +389,7 @@ mod tests {
             if let Some(j) = jac {
                 j[0] = 1.0 / (1.0 + x[0] * x[0]);
             }
-            Ok(())
+            Ok(true)
         })
         .unwrap();
         assert!(x[0].abs() < 1e-12, "{}", x[0]);

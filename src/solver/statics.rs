@@ -135,7 +135,9 @@ fn follow_load(
                 trial[i] = q[i] + predictor[i];
             }
             let mut s = newton::solve(ws, &mut trial, settings, 1.0, coeffs, |x, r, jac| {
-                sys.residual(0.0, x, &zeros, &zeros, target, r, jac.map(|j| (coeffs, j)))
+                let built = jac.is_some();
+                sys.residual(0.0, x, &zeros, &zeros, target, r, jac.map(|j| (coeffs, j)))?;
+                Ok(built || sys.kept_matrix_current())
             })
             .map_err(|e: NewtonError| e.to_string())?;
             s.factorizations += 1;

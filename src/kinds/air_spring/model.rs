@@ -1205,6 +1205,12 @@ impl MechanicalSystem for AirSpring {
         true
     }
 
+    /// A kept matrix holds the penalty blocks of the points that were in contact when it was
+    /// built.
+    fn kept_matrix_current(&self) -> bool {
+        self.main.contact.matrix_is_current()
+    }
+
     /// The prediction moves the shape along the path the kept matrix was computed on.
     fn prediction_keeps_matrix(&self) -> bool {
         true
