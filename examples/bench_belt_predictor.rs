@@ -270,7 +270,7 @@ fn main() {
         let r = run(&name, n_el, t_end, pred, &extra, which == "percall");
         let comm = (t_end / 1e-3).round();
         println!(
-            "{name} | {n_el} | {} | {:.3} | {:.2} | {:.2} | {:.2} | {} | {} ({}) | {:?}",
+            "{name} | {n_el} | {} | {:.3} | {:.3} | {:.3} | {:.2} | {} | {} ({}) | {:?}",
             if pred { "transport" } else { "integrator's" },
             t_end / r.wall,
             r.iterations as f64 / comm,

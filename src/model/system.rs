@@ -127,6 +127,16 @@ pub trait MechanicalSystem {
         false
     }
 
+    /// Whether modified Newton learns, over the solves, whether the matrix of a solve's first
+    /// iteration fails in its second (its increment larger than the first one's, so that the
+    /// iteration is redone with a fresh matrix), and computes the second iteration with a
+    /// fresh matrix while it mostly does ([`crate::solver::newton::SECOND_FRESH_THRESHOLD`]).
+    /// Default: no (the converged states move within the Newton tolerance, and the other
+    /// kinds' references were computed without it).
+    fn learns_second_iteration(&self) -> bool {
+        false
+    }
+
     /// Whether modified Newton may accept the first iteration of a time step done with a kept
     /// iteration matrix when its increment is within the tolerance, judging the remaining
     /// error `θ/(1−θ)` times the increment by the contraction rate `θ` that matrix showed in

@@ -40,6 +40,23 @@ pub const MODIFIED_NEWTON_RATE: f64 = 0.25;
 /// Iterations in a row that modified Newton does with one matrix before rebuilding it.
 pub const MODIFIED_NEWTON_MAX_REUSE: usize = 4;
 
+/// Share of a solve's outcome in the running mean of failures of a kept matrix in the second
+/// iteration ([`Workspace`]'s `second_failures`) [1].
+pub const SECOND_FRESH_MEMORY: f64 = 0.125;
+
+/// Modified Newton computes a solve's second iteration with a fresh matrix (as the first one)
+/// while the kept matrix has failed there (its increment larger than the first, so the
+/// iteration is redone with a fresh matrix) in more than this share of recent solves [1].
+/// On the serpentine drive (`examples/bench_belt_predictor.rs serpentine`) the matrix of the
+/// transport predictor's state failed in 78 % of the second iterations (contact points at the
+/// arc ends change state in the first increment), each failure a residual and a solve for
+/// nothing; on the two-pulley drive in 20 %, where the rule stays off.
+pub const SECOND_FRESH_THRESHOLD: f64 = 0.5;
+
+/// While [`SECOND_FRESH_THRESHOLD`] is exceeded, every this-many-th solve still tries the kept
+/// matrix in its second iteration, so that the rate of failures goes on being measured.
+pub const SECOND_FRESH_PROBE: usize = 8;
+
 /// Halvings of a full-Newton increment that raised the residual norm, at most, before the
 /// iteration goes on from the shortened increment (see [`solve`]).
 pub const LINE_SEARCH_MAX_CUTS: usize = 3;
@@ -125,6 +142,14 @@ pub struct Workspace {
     kept_rate: Option<f64>,
     /// Whether the first iteration of a solve with a kept matrix is judged by `kept_rate`.
     trust_kept: bool,
+    /// Running mean of the failures of a kept matrix in the second iteration of a solve that
+    /// started with a fresh one (see [`SECOND_FRESH_THRESHOLD`]) [1].
+    second_failures: f64,
+    /// Solves counted modulo [`SECOND_FRESH_PROBE`].
+    second_probe: usize,
+    /// Whether the rule of [`SECOND_FRESH_THRESHOLD`] is on
+    /// ([`MechanicalSystem::learns_second_iteration`]).
+    learn_second: bool,
     /// Contraction rate above which modified Newton rebuilds the matrix
     /// ([`MechanicalSystem::modified_newton_rate`]).
     rebuild_rate: f64,
@@ -154,6 +179,9 @@ impl Workspace {
             error_scales: sys.scales().to_vec(),
             factored: None,
             kept_rate: None,
+            second_failures: 0.0,
+            second_probe: 0,
+            learn_second: sys.learns_second_iteration(),
             trust_kept: sys.trusts_kept_contraction(),
             rebuild_rate: sys.modified_newton_rate(),
             max_cuts: sys.line_search_cuts(),
@@ -169,6 +197,14 @@ impl Workspace {
     /// `coeffs`.
     pub fn mark_factored(&mut self, coeffs: &JacobianCoeffs) {
         self.factored = Some(*coeffs);
+    }
+
+    /// Forgets what the solves so far taught about the kept matrix (the running mean of
+    /// [`SECOND_FRESH_THRESHOLD`]), so that a run continued after a saved state and a run
+    /// restored from it iterate alike.
+    pub fn forget_history(&mut self) {
+        self.second_failures = 0.0;
+        self.second_probe = 0;
     }
 
     /// Forgets the current factorization (after the solver was used for another matrix, or
@@ -235,6 +271,9 @@ pub fn solve(
     // fraction of that step still applied (None: the last step was not a full-Newton step).
     let mut line: Option<(f64, f64)> = None;
     let mut cuts = 0;
+    // Whether the first iteration of this solve had a fresh matrix (then the kept matrix's
+    // outcome in the second iteration is recorded in `ws.second_failures`).
+    let mut first_fresh = false;
     while it < settings.max_iterations {
         if fresh {
             eval(x, &mut ws.r, Some(&mut ws.jac))?;
@@ -270,6 +309,9 @@ pub fn solve(
             continue;
         }
         it += 1;
+        if it == 1 {
+            first_fresh = fresh;
+        }
         if fresh {
             ws.factored = None;
             ws.kept_rate = None;
@@ -284,7 +326,12 @@ pub fn solve(
         stats.iterations = it;
         let inc = scaled_max(&ws.dx, increment_factor, &ws.scales);
         let rate = inc / last;
-        if !inc.is_finite() || inc > 1e6 || (!fresh && rate > 1.0) {
+        let stale_failed = !inc.is_finite() || inc > 1e6 || (!fresh && rate > 1.0);
+        if ws.learn_second && modified && !fresh && it == 2 && first_fresh {
+            let failed = if stale_failed { 1.0 } else { 0.0 };
+            ws.second_failures += SECOND_FRESH_MEMORY * (failed - ws.second_failures);
+        }
+        if stale_failed {
             if !fresh {
                 // a stale iteration matrix: retry this iteration with a fresh one
                 fresh = true;
@@ -329,10 +376,18 @@ pub fn solve(
             }
             return Ok(stats);
         }
+        // The second iteration with a fresh matrix where the first one's matrix has recently
+        // failed in it (see `SECOND_FRESH_THRESHOLD`); every `SECOND_FRESH_PROBE`-th solve
+        // tries the kept one anyway, to go on measuring.
+        let second_fresh = ws.learn_second && modified && fresh && it == 1 && {
+            ws.second_probe = (ws.second_probe + 1) % SECOND_FRESH_PROBE;
+            ws.second_failures > SECOND_FRESH_THRESHOLD && ws.second_probe != 0
+        };
         stale_iterations = if fresh { 0 } else { stale_iterations + 1 };
         // Rebuild when the iteration contracts slowly, or after a few iterations with the same
         // matrix (a kept matrix must not turn one step into many cheap but slow iterations).
         fresh = !modified
+            || second_fresh
             || (last.is_finite() && rate > ws.rebuild_rate)
             || stale_iterations >= MODIFIED_NEWTON_MAX_REUSE;
         last = inc;
@@ -365,6 +420,9 @@ mod tests {
             error_scales: vec![1.0],
             factored: None,
             kept_rate: None,
+            second_failures: 0.0,
+            second_probe: 0,
+            learn_second: false,
             trust_kept: false,
             rebuild_rate: MODIFIED_NEWTON_RATE,
             max_cuts: LINE_SEARCH_MAX_CUTS,
@@ -394,6 +452,83 @@ mod tests {
         .unwrap();
         assert!(x[0].abs() < 1e-12, "{}", x[0]);
         assert!(stats.backtracks >= 1, "{stats:?}");
+    }
+
+    /// Ten solves of `f(x) = 0` from `x0`, each starting with a fresh matrix (as after the belt's
+    /// predictor), with or without learning the second iteration: total work and the roots.
+    fn repeated_solves(f: fn(f64) -> (f64, f64), x0: f64, learn: bool) -> (NewtonStats, Vec<f64>) {
+        let pattern = CscPattern::from_entries(1, [(0, 0)]);
+        let mut ws = Workspace {
+            r: vec![0.0],
+            dx: vec![0.0],
+            jac: vec![0.0],
+            solver: LinearSolver::new(&pattern, SolverKind::Auto).unwrap(),
+            pattern,
+            scales: vec![1.0],
+            error_scales: vec![1.0],
+            factored: None,
+            kept_rate: None,
+            second_failures: 0.0,
+            second_probe: 0,
+            learn_second: learn,
+            trust_kept: false,
+            rebuild_rate: MODIFIED_NEWTON_RATE,
+            max_cuts: LINE_SEARCH_MAX_CUTS,
+        };
+        let settings = NewtonSettings {
+            tolerance: 1e-12,
+            max_iterations: 25,
+            policy: NewtonPolicy::Modified,
+            line_search: false,
+        };
+        let coeffs = JacobianCoeffs {
+            mass: 1.0,
+            damping: 0.0,
+            stiffness: 0.0,
+        };
+        let mut total = NewtonStats::default();
+        let mut roots = Vec::new();
+        for _ in 0..10 {
+            ws.invalidate();
+            let mut x = [x0];
+            total += solve(&mut ws, &mut x, &settings, 1.0, coeffs, |x, r, jac| {
+                let (v, d) = f(x[0]);
+                r[0] = v;
+                if let Some(j) = jac {
+                    j[0] = d;
+                }
+                Ok(())
+            })
+            .unwrap();
+            roots.push(x[0]);
+        }
+        (total, roots)
+    }
+
+    /// `x³ = 8` from 1: the first increment lands at 3.33, where the matrix of x = 1 (slope 3
+    /// against 33) gives a larger second increment than the first, so modified Newton redoes
+    /// that iteration with a fresh matrix. Learning it, the solves from the sixth on compute
+    /// their second iteration with a fresh matrix directly (one probe in eight with the kept
+    /// one): fewer iterations, the same factorizations and roots. Where the kept matrix works
+    /// (`x + 0.1 x³ = 1` from 0, second increment a tenth of the first) nothing changes.
+    #[test]
+    fn second_iteration_is_fresh_where_the_kept_matrix_keeps_failing() {
+        let cubic = |x: f64| (x * x * x - 8.0, 3.0 * x * x);
+        let (off, roots_off) = repeated_solves(cubic, 1.0, false);
+        let (on, roots_on) = repeated_solves(cubic, 1.0, true);
+        assert!(on.iterations + 4 <= off.iterations, "{on:?} {off:?}");
+        assert_eq!(on.factorizations, off.factorizations, "{on:?} {off:?}");
+        for (a, b) in roots_on.iter().zip(&roots_off) {
+            assert!(
+                (a - 2.0).abs() < 1e-12 && (b - 2.0).abs() < 1e-12,
+                "{a} {b}"
+            );
+        }
+        let mild = |x: f64| (x + 0.1 * x * x * x - 1.0, 1.0 + 0.3 * x * x);
+        let (off, roots_off) = repeated_solves(mild, 0.0, false);
+        let (on, roots_on) = repeated_solves(mild, 0.0, true);
+        assert_eq!(on, off);
+        assert_eq!(roots_on, roots_off);
     }
 
     /// A step size that differs from the factorized one by round-off (a master's

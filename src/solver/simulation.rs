@@ -546,9 +546,11 @@ impl Simulation {
 
     /// Writes the complete simulation state (integrator state, step-size controller, model
     /// state, pending restart). The kept factorization of modified Newton is dropped, so that
-    /// the run continues from here exactly as a run restored from this state will.
+    /// the run continues from here exactly as a run restored from this state will (and so is
+    /// what modified Newton learnt about it, [`Workspace::forget_history`]).
     pub fn save(&mut self, w: &mut StateWriter) -> Result<(), String> {
         self.ws.invalidate();
+        self.ws.forget_history();
         let s = &self.state;
         w.f64(s.t);
         for v in [&s.q, &s.v, &s.acc, &s.a] {
@@ -570,6 +572,7 @@ impl Simulation {
         self.inputs_changed = r.bool().map_err(e)?;
         self.h_next = r.f64().map_err(e)?;
         self.ws.invalidate();
+        self.ws.forget_history();
         self.model.restore(r)
     }
 
