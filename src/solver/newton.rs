@@ -497,7 +497,7 @@ mod tests {
                 if let Some(j) = jac {
                     j[0] = d;
                 }
-                Ok(())
+                Ok(true)
             })
             .unwrap();
             roots.push(x[0]);
