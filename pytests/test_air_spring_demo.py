@@ -31,8 +31,11 @@ def test_wall_derivatives_are_reciprocal(models):
 
 
 def test_wall_mass_is_part_of_the_sleeve(models):
-    m_w = models[2].wall_mass
+    # the shipped scenes step quasi-statically: no wall inertia in the response (measured 1.0 g
+    # of 1.04 kg: the fit's noise); with generalized-alpha the wall's inertia is part of the sleeve
     sleeve = 2 * math.pi * 0.125 * 0.3 * 0.004 * 1100.0  # kg, scene: radius, length, thickness, density
+    assert abs(models[2].wall_mass) < 0.01 * sleeve
+    m_w = fr.wall_mass(start_values={"solver.integrator": 1})
     assert 0.3 * sleeve < m_w < sleeve
 
 
