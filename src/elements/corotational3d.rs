@@ -897,6 +897,20 @@ impl Element<ELEMENT_DOFS> for Corot3d {
             Some((c, out)) => {
                 let mut k = Mat12::zeros();
                 *out = Mat12::zeros();
+                if c.stiffness == 0.0 {
+                    // a mass (and gyroscopic) matrix only, e.g. for consistent accelerations:
+                    // the tangent would be multiplied by zero
+                    let u = self.internal_force(&nodes, f);
+                    self.inertia_force(
+                        &nodes,
+                        &v,
+                        &a,
+                        g,
+                        f,
+                        Some((c.mass, c.damping, out, &mut k)),
+                    );
+                    return u;
+                }
                 let u = self.internal_force_tangent(&nodes, f, &mut k);
                 self.inertia_force(&nodes, &v, &a, g, f, Some((c.mass, c.damping, out, &mut k)));
                 Self::chain_rotations(s, &mut k);
