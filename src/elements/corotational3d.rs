@@ -692,9 +692,10 @@ impl Corot3d {
         );
         gloc.set_row(1, &row(&(e[2] / l), &z3, &(-e[2] / l), &z3));
         gloc.set_row(2, &row(&(-e[1] / l), &z3, &(e[1] / l), &z3));
-        let wr = loc.rr * gloc;
-        let de2 = -skew(&e[1]) * wr;
-        let de3 = -skew(&e[2]) * wr;
+        // Frame spins δe_k = δw_r × e_k with δw_r = R_r gloc: for the frame's own axes
+        // e_k × (R_r g) = R_r (ê_k × g), outer products instead of 3×3 by 3×12 products.
+        let de2 = e[2] * gloc.row(0) - e[0] * gloc.row(2);
+        let de3 = e[0] * gloc.row(1) - e[1] * gloc.row(0);
         let mut dqi = [M3x12::zeros(); 2];
         put(&mut dqi[0], 3, &-skew(&loc.q[0]));
         put(&mut dqi[1], 9, &-skew(&loc.q[1]));
@@ -704,12 +705,16 @@ impl Corot3d {
         let dq2 = e[1].transpose() * dq + qmean.transpose() * de2;
         let drho = (dq1 - dq2 * rho) / q2;
         let rrt = loc.rr.transpose();
+        let tinv = [
+            tangent_spatial_inv(&loc.theta[0]),
+            tangent_spatial_inv(&loc.theta[1]),
+        ];
         let mut dth = [M3x12::zeros(); 2];
         for i in 0..2 {
             let mut sel = -gloc;
             let mut blk = sel.fixed_view_mut::<3, 3>(0, 6 * i + 3);
             blk += rrt;
-            dth[i] = tangent_spatial_inv(&loc.theta[i]) * sel;
+            dth[i] = tinv[i] * sel;
         }
         // Local forces' derivatives.
         let mut dnax = dl * self.k_axial;
@@ -743,20 +748,13 @@ impl Corot3d {
         let lam = [lam0, lam1];
         let mut dv = [M3x12::zeros(); 2];
         for i in 0..2 {
-            dv[i] = lam[i] * dth[i] + tangent_spatial_inv(&loc.theta[i]).transpose() * dn[i];
+            dv[i] = lam[i] * dth[i] + tinv[i].transpose() * dn[i];
         }
         let dmu = dv[0] + dv[1];
         let dh = e[2] * (dmu.row(1) + dmu.row(0) * rho + drho * mu.x) + de3 * (mu.y + mu.x * rho)
             - e[1] * dmu.row(2)
             - de2 * mu.z;
         let df2 = e[0] * dnax + de1 * nax - h * dl / (l * l) + dh / l;
-        let mut dms = [M3x12::zeros(); 2];
-        for i in 0..2 {
-            dms[i] =
-                loc.rr * dv[i] - skew(&(loc.rr * v[i])) * wr - qxe3[i] * dmu.row(0) / (2.0 * q2)
-                    + qxe3[i] * dq2 * (mu.x / (2.0 * q2 * q2))
-                    - (-skew(&e[2]) * dqi[i] + skew(&loc.q[i]) * de3) * (mu.x / (2.0 * q2));
-        }
         // Rows: [−f2, R1ᵀ m1, f2, R2ᵀ m2]; columns: spatial spins → body spins (× R_j).
         let mut ks = Mat12::zeros();
         for c in 0..12 {
@@ -765,8 +763,20 @@ impl Corot3d {
                 ks[(6 + r, c)] = df2[(r, c)];
             }
         }
+        // R_iᵀ δm_i with δm_i = δ(R_r v_i) − q_i × e3 δ(μ̄_1/(2 q·e2)) − δ(q_i × e3) μ̄_1/(2 q·e2):
+        // δ(R_r v_i) = R_r (δv_i − ṽ_i gloc) (the frame spin R_r gloc), δe3 of the outer
+        // products above, δq_i = −q̃_i δw_i (the node's own spin block only).
+        let cq = mu.x / (2.0 * q2);
+        let dc = dq2 * (mu.x / (2.0 * q2 * q2)) - dmu.row(0) / (2.0 * q2);
         for i in 0..2 {
-            let rows = n.r[i].transpose() * dms[i];
+            let rt = n.r[i].transpose();
+            let a = rt * qxe3[i];
+            let b0 = rt * loc.q[i].cross(&e[0]) * cq;
+            let b1 = rt * loc.q[i].cross(&e[1]) * cq;
+            let mut rows = (rt * loc.rr) * (dv[i] - skew(&v[i]) * gloc) + a * dc - b0 * gloc.row(1)
+                + b1 * gloc.row(0);
+            let mut blk = rows.fixed_view_mut::<3, 3>(0, 6 * i + 3);
+            blk -= rt * (skew(&e[2]) * skew(&loc.q[i])) * cq;
             ks.fixed_view_mut::<3, 12>(6 * i + 3, 0).copy_from(&rows);
         }
         for j in 0..2 {
@@ -887,6 +897,20 @@ impl Element<ELEMENT_DOFS> for Corot3d {
             Some((c, out)) => {
                 let mut k = Mat12::zeros();
                 *out = Mat12::zeros();
+                if c.stiffness == 0.0 {
+                    // a mass (and gyroscopic) matrix only, e.g. for consistent accelerations:
+                    // the tangent would be multiplied by zero
+                    let u = self.internal_force(&nodes, f);
+                    self.inertia_force(
+                        &nodes,
+                        &v,
+                        &a,
+                        g,
+                        f,
+                        Some((c.mass, c.damping, out, &mut k)),
+                    );
+                    return u;
+                }
                 let u = self.internal_force_tangent(&nodes, f, &mut k);
                 self.inertia_force(&nodes, &v, &a, g, f, Some((c.mass, c.damping, out, &mut k)));
                 Self::chain_rotations(s, &mut k);

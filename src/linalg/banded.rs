@@ -149,10 +149,7 @@ impl BandedLu {
                 let diag = col[0].abs() * sc[0];
                 // the largest scaled candidate below the diagonal (no index: the diagonal stays
                 // in almost every column), then the first row that reaches it if it must
-                let b = col[1..]
-                    .iter()
-                    .zip(&sc[1..])
-                    .fold(0.0f64, |b, (&a, &d)| b.max(a.abs() * d));
+                let b = scaled_max(&col[1..], &sc[1..]);
                 let jp = if b <= diag || diag >= PIVOT_THRESHOLD * b {
                     0
                 } else {
@@ -283,6 +280,31 @@ impl BandedLu {
             }
         }
     }
+}
+
+/// `max_i |a_i| d_i` (0 for empty slices), NaN ignored as by `f64::max`: four independent
+/// running maxima instead of one serial chain (the pivot search of every column; the maximum
+/// does not depend on the order).
+#[inline(always)]
+fn scaled_max(a: &[f64], d: &[f64]) -> f64 {
+    let mut m = [0.0f64; 4];
+    let (ca, cd) = (a.chunks_exact(4), d.chunks_exact(4));
+    let (ra, rd) = (ca.remainder(), cd.remainder());
+    for (x, s) in ca.zip(cd) {
+        for k in 0..4 {
+            let v = x[k].abs() * s[k];
+            if v > m[k] {
+                m[k] = v;
+            }
+        }
+    }
+    for (x, s) in ra.iter().zip(rd) {
+        let v = x.abs() * s;
+        if v > m[0] {
+            m[0] = v;
+        }
+    }
+    m[0].max(m[1]).max(m[2].max(m[3]))
 }
 
 /// `x −= u l` over equal-length slices (the compiler vectorises the zipped loop).

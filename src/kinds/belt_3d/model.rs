@@ -743,15 +743,20 @@ impl Belt3d {
         let mut fw = self
             .st
             .assemble_elements(&self.set, &[], g, t, lambda, k_scale, &mut jac);
-        let cjac = jac.as_mut().map(|(c, vals)| {
-            (
-                JacobianCoeffs {
-                    stiffness: c.stiffness * k_scale,
-                    ..*c
-                },
-                &mut **vals,
-            )
-        });
+        // the contact has no mass: without stiffness and damping coefficients (consistent
+        // accelerations) its matrix is zero
+        let cjac = jac
+            .as_mut()
+            .filter(|(c, _)| c.stiffness != 0.0 || c.damping != 0.0)
+            .map(|(c, vals)| {
+                (
+                    JacobianCoeffs {
+                        stiffness: c.stiffness * k_scale,
+                        ..*c
+                    },
+                    &mut **vals,
+                )
+            });
         self.contact.add_residual(
             &self.st.qw,
             &self.st.vw,
