@@ -403,14 +403,11 @@ pub fn solve(
 mod tests {
     use super::*;
 
-    /// Damped Newton on `atan(x) = 0` from `x0 = 2`: the full step lands at
-    /// `2 − atan(2)·5 = −3.54`, where `|atan|` is larger (1.295 > 1.107), and undamped Newton
-    /// diverges from there (a textbook case, Deuflhard 2004, §1.1); halving the step brings
-    /// the iteration into the region of convergence and it finds the root 0.
-    #[test]
-    fn backtracking_converges_where_full_newton_steps_diverge() {
+    /// A workspace for one unknown (unit scales, the default rates), learning the second
+    /// iteration if `learn`.
+    fn scalar_workspace(learn: bool) -> Workspace {
         let pattern = CscPattern::from_entries(1, [(0, 0)]);
-        let mut ws = Workspace {
+        Workspace {
             r: vec![0.0],
             dx: vec![0.0],
             jac: vec![0.0],
@@ -422,11 +419,20 @@ mod tests {
             kept_rate: None,
             second_failures: 0.0,
             second_probe: 0,
-            learn_second: false,
+            learn_second: learn,
             trust_kept: false,
             rebuild_rate: MODIFIED_NEWTON_RATE,
             max_cuts: LINE_SEARCH_MAX_CUTS,
-        };
+        }
+    }
+
+    /// Damped Newton on `atan(x) = 0` from `x0 = 2`: the full step lands at
+    /// `2 − atan(2)·5 = −3.54`, where `|atan|` is larger (1.295 > 1.107), and undamped Newton
+    /// diverges from there (a textbook case, Deuflhard 2004, §1.1); halving the step brings
+    /// the iteration into the region of convergence and it finds the root 0.
+    #[test]
+    fn backtracking_converges_where_full_newton_steps_diverge() {
+        let mut ws = scalar_workspace(false);
         let x0: f64 = 2.0;
         let full_step = x0 - x0.atan() * (1.0 + x0 * x0);
         assert!(full_step.atan().abs() > LINE_SEARCH_RISE * x0.atan().abs());
@@ -457,24 +463,7 @@ mod tests {
     /// Ten solves of `f(x) = 0` from `x0`, each starting with a fresh matrix (as after the belt's
     /// predictor), with or without learning the second iteration: total work and the roots.
     fn repeated_solves(f: fn(f64) -> (f64, f64), x0: f64, learn: bool) -> (NewtonStats, Vec<f64>) {
-        let pattern = CscPattern::from_entries(1, [(0, 0)]);
-        let mut ws = Workspace {
-            r: vec![0.0],
-            dx: vec![0.0],
-            jac: vec![0.0],
-            solver: LinearSolver::new(&pattern, SolverKind::Auto).unwrap(),
-            pattern,
-            scales: vec![1.0],
-            error_scales: vec![1.0],
-            factored: None,
-            kept_rate: None,
-            second_failures: 0.0,
-            second_probe: 0,
-            learn_second: learn,
-            trust_kept: false,
-            rebuild_rate: MODIFIED_NEWTON_RATE,
-            max_cuts: LINE_SEARCH_MAX_CUTS,
-        };
+        let mut ws = scalar_workspace(learn);
         let settings = NewtonSettings {
             tolerance: 1e-12,
             max_iterations: 25,
