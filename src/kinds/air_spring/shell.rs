@@ -322,6 +322,9 @@ pub struct AirSpringShell {
     last_strain: f64,
     strain: f64,
     kinetic: f64,
+    /// Quasi-static steps (`solver.integrator = "quasi_static"`): no inertia, no kinetic
+    /// energy.
+    quasi_static: bool,
     plate_work: f64,
     contact_loss: f64,
     last_damping_power: f64,
@@ -705,6 +708,7 @@ impl AirSpringShell {
             last_strain: 0.0,
             strain: 0.0,
             kinetic: 0.0,
+            quasi_static: false,
             plate_work: 0.0,
             contact_loss: 0.0,
             last_damping_power: 0.0,
@@ -1269,14 +1273,16 @@ impl AirSpringShell {
             .p_gauge;
         self.force = self.plate_load(p_g);
         self.strain = self.last_strain;
-        let mut ke = self
-            .main
-            .quads
-            .kinetic_energy(&self.st.qw, &self.st.vw, None);
-        if let Some(s) = &self.main.shells {
-            ke += s.kinetic_energy(&self.st.qw, &self.st.vw, Some(&self.st.frames));
+        self.kinetic = 0.0;
+        if !self.quasi_static {
+            self.kinetic = self
+                .main
+                .quads
+                .kinetic_energy(&self.st.qw, &self.st.vw, None);
+            if let Some(s) = &self.main.shells {
+                self.kinetic += s.kinetic_energy(&self.st.qw, &self.st.vw, Some(&self.st.frames));
+            }
         }
-        self.kinetic = ke;
         Ok(())
     }
 
@@ -1603,6 +1609,13 @@ impl MechanicalSystem for AirSpringShell {
 
     fn rebase(&mut self, q: &mut [f64]) {
         self.st.rebase(q);
+    }
+
+    /// The wall is held by the bead and the clamp rings, the plate's pose is prescribed and
+    /// the gas pressure inflates it: every coordinate has its equilibrium, inertia is optional.
+    fn set_quasi_static(&mut self, on: bool) -> bool {
+        self.quasi_static = on;
+        true
     }
 
     /// The static solve moves the plate from the last equilibrium to the inputs' pose with its
