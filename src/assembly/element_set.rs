@@ -357,6 +357,8 @@ impl<E: Element<N>, const N: usize> ElementSet<E, N> {
         let mut ce = SMatrix::<f64, N, N>::zeros();
         let mut u = 0.0;
         let gravity = x.g != Vector3::zeros();
+        // no accelerations (quasi-static steps, static solves): no inertia force to add
+        let inertia = x.a.iter().any(|&a| a != 0.0);
         if let (Some(mass), Some((c, vals))) = (&self.mass_vals, jac.as_mut()) {
             for (v, m) in vals.iter_mut().zip(mass) {
                 *v += c.mass * m;
@@ -388,7 +390,9 @@ impl<E: Element<N>, const N: usize> ElementSet<E, N> {
                         }
                         None => u += el.force_into(&s, &mut fe),
                     }
-                    fe.gemv(1.0, m, &ae, 1.0);
+                    if inertia {
+                        fe.gemv(1.0, m, &ae, 1.0);
+                    }
                     if gravity {
                         let mut qg = SVector::<f64, N>::zeros();
                         el.gravity_into(&s, &x.g, &mut qg);
