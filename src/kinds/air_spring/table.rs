@@ -270,8 +270,8 @@ impl AirSpringTable {
     fn solve(&self, z: f64, dt: Option<f64>) -> Result<Point, String> {
         let pa = self.gas.params().ambient_pressure;
         // the table at z once: only the pressure changes in the iteration
-        let (c, dc) = self.compliance.eval(z);
-        let (vol, dvol) = self.volume.eval(z);
+        let c = self.compliance.eval(z).0;
+        let vol = self.volume.eval(z).0;
         let table_volume = |p_g: f64| vol + c * (p_g - self.p_ref);
         let mut p_g = self.gas.committed().p_gauge;
         let mut ok = false;
@@ -295,17 +295,26 @@ impl AirSpringTable {
         if !ok {
             return Err(format!("no gas pressure at height {z} m"));
         }
-        let v = table_volume(p_g);
+        let (a, _) = self.area.eval(z);
+        let (dfdz, dvdz) = self.derivatives(z, p_g, dpdv);
+        Ok(Point {
+            p_g,
+            v: table_volume(p_g),
+            force: p_g * a,
+            dfdz,
+            dvdz,
+        })
+    }
+
+    /// `dF/dz` [N/m] and `dV/dz` [m²] at height `z` and gauge pressure `p_g` for the gas's
+    /// `dp/dV` [Pa/m³]: `dp_g/dz = P' (V' + C'(p_g − p_ref)) / (1 − P' C)`.
+    fn derivatives(&self, z: f64, p_g: f64, dpdv: f64) -> (f64, f64) {
+        let (c, dc) = self.compliance.eval(z);
+        let (_, dvol) = self.volume.eval(z);
         let (a, da) = self.area.eval(z);
         let dvz = dvol + dc * (p_g - self.p_ref);
         let dp = dpdv * dvz / (1.0 - dpdv * c);
-        Ok(Point {
-            p_g,
-            v,
-            force: p_g * a,
-            dfdz: a * dp + p_g * da,
-            dvdz: dvz + c * dp,
-        })
+        (a * dp + p_g * da, dvz + c * dp)
     }
 
     /// The plate height and the gas state at `t` (solved once per time and kept as the
@@ -471,6 +480,12 @@ impl Model for AirSpringTable {
         if committed.is_err() {
             return;
         }
+        // The outputs' derivatives are instantaneous, as levels 1 and 2 report them: the gas
+        // compressed at its committed state without time for heat or flow (the step's `dp/dV`
+        // above carries the heat exchange and the orifice flow of a step of `dt`, and the rest
+        // state's is isothermal for the energy law and includes the reservoir).
+        let mut point = point;
+        (point.dfdz, point.dvdz) = self.derivatives(z, point.p_g, self.gas.committed().dp_dv);
         if self.initialized {
             self.plate_work -= 0.5 * (self.point.force + point.force) * (z - self.height);
         }
