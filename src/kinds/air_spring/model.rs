@@ -275,6 +275,10 @@ pub struct AirSpring {
     /// Quasi-static steps (`solver.integrator = "quasi_static"`): the wall has no inertia
     /// and no kinetic energy.
     quasi_static: bool,
+    /// Quasi-static steps: the communication step `(t0, t1)` being advanced and the committed
+    /// plate height's offset from the position input at `t0` [m], spread linearly over the
+    /// step ([`AirSpring::plate_motion`]); `None` outside a step or with inertia.
+    input_jump: Option<(f64, f64, f64)>,
 }
 
 impl std::fmt::Debug for AirSpring {
@@ -480,6 +484,7 @@ impl AirSpring {
             strain: Cell::new(Some(0.0)),
             kinetic: 0.0,
             quasi_static: false,
+            input_jump: None,
             plate_work: 0.0,
             contact_loss: 0.0,
             last_damping_power: 0.0,
@@ -679,9 +684,17 @@ impl AirSpring {
             let z = self.static_from + lambda * (self.plate.z().value - self.static_from);
             return (z, 0.0, 0.0);
         }
-        let m = self.plate.motion(t);
+        let mut m = self.plate.motion(t);
         if self.hold && t == self.t {
             return (self.height, m.1, m.2);
+        }
+        if let Some((t0, t1, dz)) = self.input_jump
+            && t < t1
+        {
+            // quasi-static steps: a position input that jumped away from the committed
+            // height is reached at the step's end, not at its start, so that a halved
+            // substep halves the jump (a continuation); the end state is the same
+            m.0 += dz * (t1 - t) / (t1 - t0);
         }
         m
     }
@@ -1179,7 +1192,7 @@ impl MechanicalSystem for AirSpring {
             return false;
         }
         let [za, zb, zc] = self.history_z;
-        let z1 = self.plate.motion(self.t + h).0;
+        let z1 = self.plate_motion(self.t + h, 1.0).0;
         let (d1, d0, dm) = (z1 - za, za - zb, zb - zc);
         // monotone heights (a step of either sign is fine), at most 3 times the last spacings
         let monotone = (d1 > 0.0 && d0 > 0.0 && dm > 0.0) || (d1 < 0.0 && d0 < 0.0 && dm < 0.0);
@@ -1239,6 +1252,14 @@ impl MechanicalSystem for AirSpring {
 }
 
 impl Model for AirSpring {
+    /// Quasi-static steps spread a jump of the position input over the communication step
+    /// ([`AirSpring::plate_motion`]).
+    fn begin_communication_step(&mut self, t0: f64, t1: f64) {
+        let dz = self.height - self.plate.motion(t0).0;
+        self.input_jump =
+            (self.quasi_static && !self.statics && t1 > t0 && dz != 0.0).then_some((t0, t1, dz));
+    }
+
     /// The meridian on both sides of the axis (drawn in the x–z plane), the top plate and
     /// the piston's top between the clamps.
     fn sketch(&self) -> crate::model::Sketch {

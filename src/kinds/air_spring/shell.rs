@@ -325,6 +325,10 @@ pub struct AirSpringShell {
     /// Quasi-static steps (`solver.integrator = "quasi_static"`): no inertia, no kinetic
     /// energy.
     quasi_static: bool,
+    /// Quasi-static steps: the communication step `(t0, t1)` being advanced and the committed
+    /// pose's offsets from the position inputs at `t0`, spread linearly over the step
+    /// ([`AirSpringShell::plate_motion`]); `None` outside a step or with inertia.
+    input_jump: Option<(f64, f64, [f64; PLATE_AXES])>,
     plate_work: f64,
     contact_loss: f64,
     last_damping_power: f64,
@@ -709,6 +713,7 @@ impl AirSpringShell {
             strain: 0.0,
             kinetic: 0.0,
             quasi_static: false,
+            input_jump: None,
             plate_work: 0.0,
             contact_loss: 0.0,
             last_damping_power: 0.0,
@@ -897,7 +902,13 @@ impl AirSpringShell {
             out[0][i] = if self.hold && t == self.st.t {
                 self.pose[i]
             } else {
-                x
+                match self.input_jump {
+                    // quasi-static steps: a position input that jumped away from the committed
+                    // pose is reached at the step's end, not at its start, so that a halved
+                    // substep halves the jump (a continuation); the end state is the same
+                    Some((t0, t1, d)) if t < t1 => x + d[i] * (t1 - t) / (t1 - t0),
+                    _ => x,
+                }
             };
             out[1][i] = v;
             out[2][i] = a;
@@ -1629,6 +1640,16 @@ impl MechanicalSystem for AirSpringShell {
 }
 
 impl Model for AirSpringShell {
+    /// Quasi-static steps spread a jump of the position inputs over the communication step
+    /// ([`AirSpringShell::plate_motion`]).
+    fn begin_communication_step(&mut self, t0: f64, t1: f64) {
+        let d: [f64; PLATE_AXES] =
+            std::array::from_fn(|i| self.pose[i] - self.plate.axis_motion(i, t0).0);
+        self.input_jump =
+            (self.quasi_static && !self.statics && t1 > t0 && d.iter().any(|x| *x != 0.0))
+                .then_some((t0, t1, d));
+    }
+
     /// What the automatic count around chose (`mesh.n_circumferential = 0`).
     fn build_note(&self) -> Option<String> {
         self.auto_note.clone()
