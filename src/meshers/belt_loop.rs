@@ -149,7 +149,7 @@ impl Loop {
                 .map(|i| format!("pulley{}", i + 1))
                 .collect();
             return Err(format!(
-                "the belt cannot follow the pulleys in this order (the belt direction turns by {total:.4} rad around the loop, not 2π): list the front-side pulleys ({}) counter-clockwise around the loop{} (pulley.center, radius, side)",
+                "the belt cannot follow the pulleys in this order (the belt direction turns by {total:.4} rad around the loop, not 2π): list the front-side pulleys ({}) counter-clockwise around the loop{}",
                 front.join(", "),
                 if back_list.is_empty() {
                     String::new()
