@@ -1031,6 +1031,15 @@ impl Belt3d {
 }
 
 impl Model for Belt3d {
+    /// Pulley angles, speeds and torques are smooth signals set at every communication step:
+    /// the integrator keeps its accelerations, as on the planar drive. A restart solves for
+    /// new consistent accelerations with the new inputs held at the step's start and
+    /// factorizes the mass matrix for it in every communication step (issue 13 item 5,
+    /// session 31).
+    fn input_restarts_accelerations(&self, _input: usize) -> bool {
+        false
+    }
+
     /// The belt's centre line and each pulley's rim circle.
     fn sketch(&self) -> crate::model::Sketch {
         let mut s = crate::model::Sketch::new(format!(
