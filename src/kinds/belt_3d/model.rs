@@ -1250,7 +1250,7 @@ impl MechanicalSystem for Belt3d {
     /// the ringing of the contact (issue 13 item 5, session 31: 60 rad/s, 120 elements, rms
     /// change of an arc node's gap over a step 9e-6 m on pulley 1), while the interpolated
     /// centre line plus `h v_n` missed it by 5e-5 m rms (`h v_n` carries that ringing's
-    /// velocity), 2.5 times the penetration itself and 12 times the penalty's smoothing depth:
+    /// velocity), 1.8 times the penetration itself and 12 times the penalty's smoothing depth:
     /// the first Newton increment then moved arc points in and out of contact and between
     /// stick and slip. Spans and nodes off the rims keep the transport.
     fn predict(&mut self, q0: &[f64], v0: &[f64], h: f64, q1: &mut [f64]) -> bool {
