@@ -1244,9 +1244,10 @@ impl MechanicalSystem for Belt3d {
     /// ([`Belt3d::set_transport_predictor`]).
     ///
     /// A node whose centre line is pressed onto a pulley's rim at the start of the step
-    /// (gap `g₀ = ρ − R(ζ)` < 0, [`Pulley3d::rim_gap`]) keeps that gap: its transported
+    /// (gap `g₀ = ρ − R(ζ)` < 0, [`Pulley3d::rim_gap`]) and whose transported place on the
+    /// centre line (before `h v_n`) is still inside that rim keeps its gap: its predicted
     /// position is moved along the rim's radial direction to `R(ζ) + g₀`
-    /// ([`Pulley3d::at_rim_gap`]). On the rim the penalty holds the radial position to within
+    /// ([`Pulley3d::at_rim_gap`]); a node carried off the arc onto a span keeps the transport. On the rim the penalty holds the radial position to within
     /// the ringing of the contact (issue 13 item 5, session 31: 60 rad/s, 120 elements, rms
     /// change of an arc node's gap over a step 9e-6 m on pulley 1), while the interpolated
     /// centre line plus `h v_n` missed it by 5e-5 m rms (`h v_n` carries that ringing's
@@ -1309,16 +1310,19 @@ impl MechanicalSystem for Belt3d {
             // (the element's own are scaled by l0: on a stretched span this one moves the
             // material uniformly, the element's would be off by up to 0.1 (l − l0))
             let w = hermite(xi);
-            let mut r = w[0] * at(a)
+            let centre = w[0] * at(a)
                 + w[2] * at(b)
-                + lc * (w[1] * (qa * Vector3::x()) + w[3] * (qb * Vector3::x()))
-                + h * (vel - vt * t);
-            // a node pressed onto a rim keeps its gap to that rim (see the doc above)
+                + lc * (w[1] * (qa * Vector3::x()) + w[3] * (qb * Vector3::x()));
+            let mut r = centre + h * (vel - vt * t);
+            // a node pressed onto a rim keeps its gap to that rim where the transported
+            // centre line is still inside it (see the doc above)
             let r0 = at(i);
             for ob in self.contact.obstacles() {
                 let g0 = ob.rim_gap(&r0);
                 if g0 < 0.0 {
-                    r = ob.at_rim_gap(&r, g0);
+                    if ob.rim_gap(&centre) < 0.0 {
+                        r = ob.at_rim_gap(&r, g0);
+                    }
                     break;
                 }
             }
