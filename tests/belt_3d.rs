@@ -767,8 +767,8 @@ fn crowned_pulley_centres_the_belt() {
 /// a sample at its end (session 30: dropping the acceleration restart at communication steps
 /// moved the sample at 1.3 s out of the ±0.3 mm band while the window's mean moved by
 /// 0.12 mm). Session 31 (arc nodes keep their rim gap in the predictor, no acceleration
-/// restart): at 1.3 s −4.960 mm, mean over 1.0–1.3 s −4.927 mm (range −4.961 to
-/// −4.757 mm), flange force mean −22.3 N, standard deviation 12.0 N, largest 48.8 N.
+/// restart): at 1.3 s −4.965 mm, mean over 1.0–1.3 s −4.939 mm (range −4.965 to
+/// −4.852 mm), flange force mean −23.3 N, standard deviation 12.7 N, largest 62.6 N.
 #[test]
 fn walked_belt_rides_the_flange() {
     let scene = common::scene("belt_drive_3d");
