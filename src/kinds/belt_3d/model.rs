@@ -1244,11 +1244,12 @@ impl MechanicalSystem for Belt3d {
     /// ([`Belt3d::set_transport_predictor`]).
     ///
     /// A node whose centre line is pressed onto a pulley's rim at the start of the step
-    /// (gap `g₀ = ρ − R(ζ)` < 0, [`Pulley3d::rim_gap`]) and whose transported place on the
-    /// centre line (before `h v_n`) is still inside that rim keeps its gap: its predicted
-    /// position is moved along the rim's radial direction to `R(ζ) + g₀`
-    /// ([`Pulley3d::at_rim_gap`]); a node carried off the arc onto a span keeps the transport. On the rim the penalty holds the radial position to within
-    /// the ringing of the contact (issue 13 item 5, session 31: 60 rad/s, 120 elements, rms
+    /// (gap `g₀ = ρ − R(ζ)` < 0, [`Pulley3d::rim_gap`], axially within the rim's reach
+    /// `|ζ| < h + b`) and whose transported place on the centre line (before `h v_n`) is
+    /// still inside that rim keeps its gap: its predicted position is moved along the rim's
+    /// radial direction to `R(ζ) + g₀` ([`Pulley3d::at_rim_gap`]); a node carried off the arc
+    /// onto a span keeps the transport. On the rim the penalty holds the radial position to
+    /// within the ringing of the contact (issue 13 item 5, session 31: 60 rad/s, 120 elements, rms
     /// change of an arc node's gap over a step 9e-6 m on pulley 1), while the interpolated
     /// centre line plus `h v_n` missed it by 5e-5 m rms (`h v_n` carries that ringing's
     /// velocity), 1.8 times the penetration itself and 12 times the penalty's smoothing depth:
@@ -1319,7 +1320,7 @@ impl MechanicalSystem for Belt3d {
             let r0 = at(i);
             for ob in self.contact.obstacles() {
                 let g0 = ob.rim_gap(&r0);
-                if g0 < 0.0 {
+                if g0 < 0.0 && ob.lateral(&r0).abs() < ob.half_width + ob.belt_half_width {
                     if ob.rim_gap(&centre) < 0.0 {
                         r = ob.at_rim_gap(&r, g0);
                     }
