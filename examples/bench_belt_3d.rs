@@ -221,8 +221,11 @@ fn main() {
             );
             if let Some(b) = summary {
                 println!(
-                    "  end: span tensions {:?} N, omega2 {:.6} rad/s, lateral {:.3e} m",
-                    b.tensions, b.omega2, b.lateral
+                    "  end: span tensions {:?} N, omega2 {:.6} rad/s, lateral {:.3e} m; line-search backtracks per step {:.2}",
+                    b.tensions,
+                    b.omega2,
+                    b.lateral,
+                    s.newton.backtracks as f64 / comm
                 );
             }
         }

@@ -749,8 +749,9 @@ fn crowned_pulley_centres_the_belt() {
 /// 0.03 rad walks the belt onto its flange (rim half width h = 20 mm, belt half width
 /// b = 15 mm: the edge meets the flange at `belt2.lateral` = −(h − b) = −5 mm), with the
 /// default contact across the width; pulley 1 ramped to 10 rad/s over 0.1 s, no load, 1 ms,
-/// 1.3 s. Checked: the belt ends on the flange (within 0.3 mm of −5 mm) and
-/// never rides over it (never beyond −5.5 mm); over 1.0–1.3 s the flange pushes it back
+/// 1.3 s. Checked: over 1.0–1.3 s the belt rides on the flange (the mean of `belt2.lateral`
+/// within 0.3 mm of −5 mm) and it never rides over it (never beyond −5.5 mm); over 1.0–1.3 s
+/// the flange pushes it back
 /// (`pulley2.flange_force`, the belt's axial force on the flanges, has the walk's sign and a
 /// mean of at least 1 N), on average below what friction on the rim can push sideways,
 /// μ (T1 + T2) (the rim's normal force on a 180° wrap, the pre-tension 300 N in both spans).
@@ -761,7 +762,13 @@ fn crowned_pulley_centres_the_belt() {
 /// (`contact.width_points` = 1) the single edge point made spikes of 331 N (before session
 /// 26's bristle it jumped the flange top at 1828 N). Riding the flange is not smooth (the
 /// flange face's penalty acts on the edge points only): 76 of 1459 steps failed Newton and
-/// were halved without the predictor (not asserted on).
+/// were halved without the predictor (not asserted on). The ride oscillates across the
+/// width by tenths of a millimetre, so the position checked is the mean over the window, not
+/// a sample at its end (session 30: dropping the acceleration restart at communication steps
+/// moved the sample at 1.3 s out of the ±0.3 mm band while the window's mean moved by
+/// 0.12 mm). Session 31 (arc nodes keep their rim gap in the predictor, no acceleration
+/// restart): at 1.3 s −4.965 mm, mean over 1.0–1.3 s −4.939 mm (range −4.965 to
+/// −4.852 mm), flange force mean −23.3 N, standard deviation 12.7 N, largest 62.6 N.
 #[test]
 fn walked_belt_rides_the_flange() {
     let scene = common::scene("belt_drive_3d");
@@ -769,6 +776,7 @@ fn walked_belt_rides_the_flange() {
     let (flange_at, mu, pretension) = (-0.005, 0.4, 300.0);
     let mut f = vec![];
     let mut lateral: f64 = 0.0;
+    let mut ride = vec![];
     drive_ramped(&scene, &mut sim, 1300, 0.0, |sim, t, _| {
         lateral = common::output(&scene, sim, "belt2.lateral");
         assert!(
@@ -777,6 +785,7 @@ fn walked_belt_rides_the_flange() {
         );
         if t > 1.0 + 1e-9 {
             f.push(common::output(&scene, sim, "pulley2.flange_force"));
+            ride.push(lateral);
         }
     });
     let s = sim.stats();
@@ -785,11 +794,23 @@ fn walked_belt_rides_the_flange() {
     let mean = f.iter().sum::<f64>() / n;
     let sd = (f.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
     let peak = f.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let ride_mean = ride.iter().sum::<f64>() / ride.len() as f64;
+    let (ride_min, ride_max) = ride
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
     println!(
-        "flange: belt2.lateral {:.3} mm, pulley2.flange_force over 1.0-1.3 s mean {mean:.2} N, standard deviation {sd:.2} N, largest {peak:.2} N",
-        1e3 * lateral
+        "flange: belt2.lateral at 1.3 s {:.3} mm, over 1.0-1.3 s mean {:.3} mm (from {:.3} to {:.3} mm); pulley2.flange_force over 1.0-1.3 s mean {mean:.2} N, standard deviation {sd:.2} N, largest {peak:.2} N",
+        1e3 * lateral,
+        1e3 * ride_mean,
+        1e3 * ride_min,
+        1e3 * ride_max
     );
-    assert!((lateral - flange_at).abs() < 3e-4, "lateral {lateral}");
+    assert!(
+        (ride_mean - flange_at).abs() < 3e-4,
+        "mean lateral over 1.0-1.3 s {ride_mean}"
+    );
     assert!(mean < -1.0, "mean flange force {mean}");
     assert!(
         mean.abs() < mu * 2.0 * pretension,

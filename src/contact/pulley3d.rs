@@ -140,6 +140,22 @@ impl Pulley3d {
         }
     }
 
+    /// Gap `ρ − R(ζ)` of the point `r` to the pitch surface of the rim [m] (negative:
+    /// penetration; the rim's width is not checked).
+    #[inline]
+    pub fn rim_gap(&self, r: &Vector3<f64>) -> f64 {
+        let (zeta, rho, ..) = self.frame(r);
+        rho - self.rim_radius(zeta).0
+    }
+
+    /// The point `r` moved along the rim's radial direction (at its own axial position ζ and
+    /// polar angle) to the gap `gap` from the pitch surface [m].
+    #[inline]
+    pub fn at_rim_gap(&self, r: &Vector3<f64>, gap: f64) -> Vector3<f64> {
+        let (zeta, _, e, _) = self.frame(r);
+        self.center + zeta * self.axis + (self.rim_radius(zeta).0 + gap) * e
+    }
+
     /// First basis vector of the polar angle (perpendicular to the axis).
     pub fn u1(&self) -> Vector3<f64> {
         self.u1
