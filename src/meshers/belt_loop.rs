@@ -149,7 +149,7 @@ impl Loop {
                 .map(|i| format!("pulley{}", i + 1))
                 .collect();
             return Err(format!(
-                "the belt cannot follow the pulleys in this order (the belt direction turns by {total:.4} rad around the loop, not 2π): list the front-side pulleys ({}) counter-clockwise around the loop{}",
+                "the belt cannot follow the pulleys in this order (the belt direction turns by {total:.4} rad around the loop, not 2π): list the front-side pulleys ({}) counter-clockwise around the loop{} (pulley.center, radius{})",
                 front.join(", "),
                 if back_list.is_empty() {
                     String::new()
@@ -158,7 +158,9 @@ impl Loop {
                         ", each back-side pulley ({}) outside the loop between its neighbours",
                         back_list.join(", ")
                     )
-                }
+                },
+                // the side key exists where back-side pulleys do (the planar drives)
+                if back_list.is_empty() { "" } else { ", side" }
             ));
         }
         // Spans must not cross one another.
