@@ -246,9 +246,11 @@ impl AirSpringTable {
             .charge(pd, vd)
             .map_err(|e| gas_error(e, m.gas.params()))?;
         m.v_charge = m.gas.committed().volume;
-        m.point = m
+        let mut point = m
             .solve(hd, None)
             .map_err(|e| format!("table at the design state: {e}"))?;
+        (point.dfdz, point.dvdz) = m.derivatives(hd, point.p_g, m.gas.committed().dp_dv);
+        m.point = point;
         Ok(m)
     }
 
@@ -266,7 +268,9 @@ impl AirSpringTable {
         }
     }
 
-    /// Pressure, volume, force and derivatives at height `z` after a step of `dt` (or at rest).
+    /// Pressure, volume and force at height `z` after a step of `dt` (or at rest); the
+    /// derivatives are left 0: they are instantaneous and come from the committed gas
+    /// ([`Self::derivatives`] in `accept`).
     fn solve(&self, z: f64, dt: Option<f64>) -> Result<Point, String> {
         let pa = self.gas.params().ambient_pressure;
         // the table at z once: only the pressure changes in the iteration
@@ -275,11 +279,9 @@ impl AirSpringTable {
         let table_volume = |p_g: f64| vol + c * (p_g - self.p_ref);
         let mut p_g = self.gas.committed().p_gauge;
         let mut ok = false;
-        let mut dpdv = 0.0;
         for _ in 0..50 {
             let v = table_volume(p_g);
-            let (p, d) = self.gas_at(dt, v)?;
-            dpdv = d;
+            let (p, dpdv) = self.gas_at(dt, v)?;
             let f = p_g - (p - pa);
             let step = f / (1.0 - dpdv * c);
             p_g -= step;
@@ -296,13 +298,12 @@ impl AirSpringTable {
             return Err(format!("no gas pressure at height {z} m"));
         }
         let (a, _) = self.area.eval(z);
-        let (dfdz, dvdz) = self.derivatives(z, p_g, dpdv);
         Ok(Point {
             p_g,
             v: table_volume(p_g),
             force: p_g * a,
-            dfdz,
-            dvdz,
+            dfdz: 0.0,
+            dvdz: 0.0,
         })
     }
 
