@@ -11,6 +11,6 @@ mod state;
 pub use central_difference::CentralDifference;
 pub use generalized_alpha::GeneralizedAlpha;
 pub use midpoint::Midpoint;
-pub use quasi_static::QuasiStatic;
+pub use quasi_static::{QuasiStatic, StepTrend, lagrange3};
 pub use scheme::Integrator;
 pub use state::DynState;

@@ -40,6 +40,7 @@ use crate::elements::cord_rubber::CordRubberWall;
 use crate::elements::{Element, ElementState};
 use crate::gas::Gas;
 use crate::integrators::DynState;
+use crate::integrators::lagrange3;
 use crate::linalg::{CscPattern, LinearSolver, SolverKind, rank_one_len};
 use crate::meshers::bellows::{convoluted_start, rolling_lobe_start};
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
@@ -47,16 +48,6 @@ use crate::scene::params::ParamValues;
 use crate::snapshot::{StateReader, StateWriter};
 use nalgebra::{SVector, Vector3};
 use std::cell::{Cell, RefCell};
-
-/// Weights of quadratic Lagrange extrapolation through the abscissae `x` (distinct) at `x1`.
-fn lagrange3(x: [f64; 3], x1: f64) -> [f64; 3] {
-    let [a, b, c] = x;
-    [
-        (x1 - b) * (x1 - c) / ((a - b) * (a - c)),
-        (x1 - a) * (x1 - c) / ((b - a) * (b - c)),
-        (x1 - a) * (x1 - b) / ((c - a) * (c - b)),
-    ]
-}
 
 /// Elements, contact and pattern over one split of the coordinates into free and prescribed.
 #[derive(Clone, Debug)]

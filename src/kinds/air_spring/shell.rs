@@ -64,7 +64,7 @@ use crate::elements::trapezoid_shell::{
     Bending, ELEMENT_DOFS, NODE_DOFS, ShellMaterial, ShellOptions, TrapezoidShell,
 };
 use crate::gas::Gas;
-use crate::integrators::DynState;
+use crate::integrators::{DynState, StepTrend};
 use crate::linalg::{CscPattern, LinearSolver, SolverKind, rank_one_len};
 use crate::model::framed::FramedState;
 use crate::model::{JacobianCoeffs, MechanicalSystem, Model, ModelError};
@@ -329,6 +329,9 @@ pub struct AirSpringShell {
     /// pose's offsets from the position inputs at `t0`, spread linearly over the step
     /// ([`AirSpringShell::plate_motion`]); `None` outside a step or with inertia.
     input_jump: Option<(f64, f64, [f64; PLATE_AXES])>,
+    /// Quasi-static steps: the predictor's history of step increments
+    /// ([`MechanicalSystem::predict`]).
+    trend: StepTrend,
     plate_work: f64,
     contact_loss: f64,
     last_damping_power: f64,
@@ -714,6 +717,7 @@ impl AirSpringShell {
             kinetic: 0.0,
             quasi_static: false,
             input_jump: None,
+            trend: StepTrend::new(n_free),
             plate_work: 0.0,
             contact_loss: 0.0,
             last_damping_power: 0.0,
@@ -1254,6 +1258,8 @@ impl AirSpringShell {
                     .map_or(0.0, |(p, _)| p - self.ambient)
             }
         };
+        // a new shape: the predictor's history is stale
+        self.trend.reset();
         self.commits += 1;
         Ok(())
     }
@@ -1629,6 +1635,37 @@ impl MechanicalSystem for AirSpringShell {
         true
     }
 
+    /// Quasi-static steps: the step's increment extrapolated quadratically in time through
+    /// the last two steps' increments ([`StepTrend`]; the node rotations are increments in
+    /// the chart of the committed orientations, so the shape itself cannot be extrapolated
+    /// as the membrane level's is). The integrator's `q₀ + h v₀` is exact only for a
+    /// motion linear in time. Left to the integrator with inertia, in a static solve, with
+    /// fewer than three commits since the last new shape, or for a step more than three
+    /// times the last ones.
+    fn predict(&mut self, q0: &[f64], _v0: &[f64], h: f64, q1: &mut [f64]) -> bool {
+        self.quasi_static && !self.statics && self.trend.predict(self.st.t, h, q0, q1)
+    }
+
+    /// Quasi-static steps: the prediction moves the shape along the path the kept matrix
+    /// was computed on.
+    fn prediction_keeps_matrix(&self) -> bool {
+        self.quasi_static
+    }
+
+    /// Quasi-static steps: with the predictor most steps start near the solution (as the
+    /// membrane level's).
+    fn trusts_kept_contraction(&self) -> bool {
+        self.quasi_static
+    }
+
+    /// Quasi-static steps: a kept matrix holds the penalty blocks of the points that were in
+    /// contact when it was built.
+    fn kept_matrix_current(&self) -> bool {
+        !self.quasi_static
+            || (self.main.contact.matrix_is_current()
+                && (!self.main.plate_on || self.main.plate.matrix_is_current()))
+    }
+
     /// The static solve moves the plate from the last equilibrium to the inputs' pose with its
     /// load factor.
     fn hold_for_statics(&mut self, held: bool) {
@@ -1832,6 +1869,11 @@ impl Model for AirSpringShell {
         }
         self.initialized = true;
         self.commits += 1;
+        if self.quasi_static && !self.statics {
+            self.trend.record(state.t, &state.v);
+        } else {
+            self.trend.reset();
+        }
     }
 
     fn free_state(&self, q: &mut [f64], v: &mut [f64]) {
@@ -1860,6 +1902,7 @@ impl Model for AirSpringShell {
         }
         self.main.contact.save(w);
         self.gas.save(w);
+        self.trend.save(w);
         Ok(())
     }
 
@@ -1885,6 +1928,7 @@ impl Model for AirSpringShell {
         }
         self.main.contact.restore(r)?;
         self.gas.restore(r).map_err(e)?;
+        self.trend.restore(r).map_err(e)?;
         self.commits += 1;
         Ok(())
     }
