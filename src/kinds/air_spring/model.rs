@@ -16,7 +16,9 @@
 //!
 //! **Design state.** At build the sleeve is mounted at `spring.design_height` under the fixed
 //! gauge pressure `gas.pressure_design` (pseudo-transient continuation from a geometric start
-//! shape, [`rolling_lobe_start`]); its bag volume fixes the gas mass. A static solve at
+//! shape, [`rolling_lobe_start`]); its bag volume fixes the gas mass. At level 2 the rolling
+//! lobe is then remeshed, graded towards the material that rolls through the lobe
+//! (`AirSpring::graded_mesh`), and solved again from the interpolated shape. A static solve at
 //! initialization (`solver.static_equilibrium`) then moves the plate to the start value of
 //! `top.z` with the gas law at rest (the load factor of the static solver moves the plate).
 //!
