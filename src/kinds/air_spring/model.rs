@@ -383,7 +383,8 @@ impl AirSpring {
             return Ok(uniform);
         }
         let (start, lengths) = uniform.graded_mesh(&contour);
-        Self::build_on(
+        // should the graded mesh find no equilibrium, the uniform one serves
+        Ok(Self::build_on(
             scene,
             p,
             Mounting {
@@ -393,6 +394,7 @@ impl AirSpring {
                 ..mounting
             },
         )
+        .unwrap_or(uniform))
     }
 
     /// A meridian mesh graded for the rolling lobe from this (uniform) design state: the
