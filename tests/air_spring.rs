@@ -165,8 +165,10 @@ fn closed_gas_characteristic_and_stiffness() {
             );
             assert!((f / fs[i] - 1.0).abs() < 2e-3);
             assert!((p / ps[i] - 1.0).abs() < 2e-3);
-            // the discrete characteristic ripples as nodes roll onto the piston (linear
-            // elements): its pointwise slope is within a few per cent at 120 elements
+            // the discrete characteristic ripples as nodes peel off the piston (linear
+            // elements, the departure jumps from node to node): its pointwise slope is within
+            // 2.6 % at these heights at 120 elements of the graded mesh (4.2 % uniform;
+            // 2.8 % every 0.5 mm, `stiffness_ripple_table`)
             assert!((k / ks[i] - 1.0).abs() < 5e-2);
         }
     }
@@ -539,4 +541,95 @@ fn friction_is_refused_where_it_is_not_modelled() {
     }
     let table = Scene::from_toml(&read("air_spring_table")).unwrap();
     assert!(!table.params.iter().any(|p| p.name == "contact.mu"));
+}
+
+/// Natural cubic spline through `(x, y)` evaluated at `t` (the reference's stiffness is smooth
+/// in h: between its 10 mm samples a spline is good to about 1e-3).
+fn spline(x: &[f64], y: &[f64], t: f64) -> f64 {
+    let n = x.len();
+    let mut m = vec![0.0; n];
+    let (mut c, mut d) = (vec![0.0; n], vec![0.0; n]);
+    for i in 1..n - 1 {
+        let (h0, h1) = (x[i] - x[i - 1], x[i + 1] - x[i]);
+        let a = h0;
+        let b = 2.0 * (h0 + h1);
+        let rhs = 6.0 * ((y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0);
+        let den = b - a * c[i - 1];
+        c[i] = h1 / den;
+        d[i] = (rhs - a * d[i - 1]) / den;
+    }
+    for i in (1..n - 1).rev() {
+        m[i] = d[i] - c[i] * m[i + 1];
+    }
+    let i = (0..n - 1).find(|&i| t <= x[i + 1]).unwrap_or(n - 2);
+    let h = x[i + 1] - x[i];
+    let (a, b) = ((x[i + 1] - t) / h, (t - x[i]) / h);
+    a * y[i] + b * y[i + 1] + ((a * a * a - a) * m[i] + (b * b * b - b) * m[i + 1]) * h * h / 6.0
+}
+
+/// Exploration (issue 11, the stiffness ripple): the closed spring (n = 1.4) sampled every
+/// 0.5 mm over h = 0.20–0.30 m; per height the errors of F and k against the shooting
+/// solution (splined between its 10 mm samples), the node where the sleeve leaves the piston
+/// (first node from the clamp off the contour) and how far it is off, the lobe's lowest node.
+/// `RIPPLE_N` = the element counts (default 60,120). Run with `--ignored --nocapture`.
+#[test]
+#[ignore]
+fn stiffness_ripple_table() {
+    let r = reference();
+    let c = r["closed"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["spring"].as_str() == Some("default") && c["n"].as_float() == Some(1.4))
+        .unwrap()
+        .clone();
+    let (hs, fs, ks) = (floats(&c, "h"), floats(&c, "F"), floats(&c, "k"));
+    let ns: Vec<usize> = std::env::var("RIPPLE_N")
+        .unwrap_or("60,120".into())
+        .split(',')
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let step: f64 = std::env::var("RIPPLE_STEP")
+        .ok()
+        .map_or(5e-4, |s| s.parse().unwrap());
+    for n in ns {
+        let scene =
+            Scene::from_toml(&with(&axisym_text(), "n_meridional", &n.to_string())).unwrap();
+        let (mut worst, mut worst_f, mut worst_k10): (f64, f64, f64) = (0.0, 0.0, 0.0);
+        let m = (0.1 / step).round() as usize;
+        for j in 0..=m {
+            let h = 0.20 + 0.1 * j as f64 / m as f64;
+            let sim = simulation(&scene, &[("top.z", Value::Real(h))]).unwrap();
+            let f = output(&scene, &sim, "top.fz");
+            let k = output(&scene, &sim, "spring.stiffness");
+            let model = sim.model_as::<AirSpring>().unwrap();
+            let pts = model.meridian();
+            // from the clamp (last node) back while on the piston wall (r = 0.1)
+            let mut d = pts.len() - 1;
+            while d > 0 && (pts[d - 1][0] - 0.1).abs() < 1e-5 {
+                d -= 1;
+            }
+            let low = (0..pts.len())
+                .min_by(|&a, &b| pts[a][1].total_cmp(&pts[b][1]))
+                .unwrap();
+            let ek = k / spline(&hs, &ks, h) - 1.0;
+            let ef = f / spline(&hs, &fs, h) - 1.0;
+            worst = worst.max(ek.abs());
+            worst_f = worst_f.max(ef.abs());
+            if j % ((0.01 / step).round() as usize) == 0 {
+                worst_k10 = worst_k10.max(ek.abs());
+            }
+            println!(
+                "n {n} h {h:.4} F {ef:+.2e} k {ek:+.3e} landed {d} (z {:.5}, next off by {:.2e} at z {:.5}) low {low} (z {:.5}, r {:.5})",
+                pts[d][1],
+                pts[d - 1][0] - 0.1,
+                pts[d - 1][1],
+                pts[low][1],
+                pts[low][0]
+            );
+        }
+        println!(
+            "n = {n}: worst k error {worst:.3e} (every 10 mm {worst_k10:.3e}), worst F error {worst_f:.2e}"
+        );
+    }
 }

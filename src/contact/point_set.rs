@@ -73,6 +73,9 @@ pub struct ContactPointSet<O: Obstacle<D>, const D: usize, const NV: usize, cons
     weights: Vec<[f64; NV]>,
     /// Body length (or area) a point stands for.
     w: f64,
+    /// Per element, the length (or area) each of its points stands for, replacing `w` (empty:
+    /// `w` on every element).
+    element_w: Vec<f64>,
     hist: Vec<O::History>,
     loads: Vec<ObstacleLoad<D>>,
     /// The points in contact in the last [`Self::add_residual`] (count and a signature of
@@ -118,6 +121,7 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
             ends,
             weights: vec![],
             w: 0.0,
+            element_w: vec![],
             hist: vec![],
             active: (0, 0),
             active_in_matrix: None,
@@ -133,6 +137,23 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
         let n = self.n_elements * self.points_per_element() * self.obstacles.len();
         if self.hist.len() != n {
             self.hist = vec![O::History::default(); n];
+        }
+    }
+
+    /// Gives the points of every element their own length (or area) `w[e]` [m] (or [m²]),
+    /// for elements of different sizes; replaces the common one of [`Self::set_points`].
+    pub fn set_element_weights(&mut self, w: Vec<f64>) {
+        assert_eq!(w.len(), self.n_elements, "one length per element");
+        self.element_w = w;
+    }
+
+    /// The length (or area) a point of element `e` stands for.
+    #[inline]
+    fn w_of(&self, e: usize) -> f64 {
+        if self.element_w.is_empty() {
+            self.w
+        } else {
+            self.element_w[e]
         }
     }
 
@@ -247,7 +268,8 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
                     let (p, x, xd) = self.motion(b, i, q, v);
                     let idx = (e * n_cp + i) * no + k;
                     let h = &self.hist[idx];
-                    let Some(res) = self.obstacles[k].evaluate(&self.law, self.w, &p, &x, &xd, h)
+                    let Some(res) =
+                        self.obstacles[k].evaluate(&self.law, self.w_of(e), &p, &x, &xd, h)
                     else {
                         continue;
                     };
@@ -331,7 +353,7 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
             for i in 0..n_cp {
                 let (p, x, xd) = self.motion(b, i, q, v);
                 let h = &self.hist[(e * n_cp + i) * no + k];
-                let Some(res) = self.obstacles[k].evaluate(&self.law, self.w, &p, &x, &xd, h)
+                let Some(res) = self.obstacles[k].evaluate(&self.law, self.w_of(e), &p, &x, &xd, h)
                 else {
                     continue;
                 };
@@ -363,7 +385,7 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
                     let h = self.hist[idx];
                     let ob = &self.obstacles[k];
                     let res = if near && !initial {
-                        ob.evaluate(&self.law, self.w, &p, &x, &xd, &h)
+                        ob.evaluate(&self.law, self.w_of(e), &p, &x, &xd, &h)
                     } else {
                         None
                     };
@@ -378,7 +400,7 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
                         book.slipping += r.slipping() as usize;
                         book.normal_energy += r.normal_energy();
                         book.dissipation += r.dissipation();
-                        book.friction_work += O::friction_work(self.w, &h, r);
+                        book.friction_work += O::friction_work(self.w_of(e), &h, r);
                     }
                     self.hist[idx] = ob.committed(&p, &x, res.as_ref());
                 }

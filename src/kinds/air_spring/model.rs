@@ -16,7 +16,9 @@
 //!
 //! **Design state.** At build the sleeve is mounted at `spring.design_height` under the fixed
 //! gauge pressure `gas.pressure_design` (pseudo-transient continuation from a geometric start
-//! shape, [`rolling_lobe_start`]); its bag volume fixes the gas mass. A static solve at
+//! shape, [`rolling_lobe_start`]); its bag volume fixes the gas mass. At level 2 the rolling
+//! lobe is then remeshed, graded towards the material that rolls through the lobe
+//! (`AirSpring::graded_mesh`), and solved again from the interpolated shape. A static solve at
 //! initialization (`solver.static_equilibrium`) then moves the plate to the start value of
 //! `top.z` with the gas law at rest (the load factor of the static solver moves the plate).
 //!
@@ -49,6 +51,10 @@ use crate::snapshot::{StateReader, StateWriter};
 use nalgebra::{SVector, Vector3};
 use std::cell::{Cell, RefCell};
 
+/// Element density in the rolling lobe's zone against the rest of the sleeve (level 2,
+/// [`AirSpring::graded_mesh`]).
+const GRADING: f64 = 4.0;
+
 /// Elements, contact and pattern over one split of the coordinates into free and prescribed.
 #[derive(Clone, Debug)]
 struct Mech {
@@ -63,8 +69,8 @@ struct Mech {
 impl Mech {
     fn new(
         n_el: usize,
-        element: AxisymMembrane,
-        hinge: Option<AxisymHinge>,
+        elements: Vec<AxisymMembrane>,
+        hinges: Option<Vec<AxisymHinge>>,
         constrained: &[bool],
         law: ContactLaw,
         obstacles: Vec<AxisymObstacle>,
@@ -83,7 +89,7 @@ impl Mech {
             .collect();
         let flat4: Vec<usize> = el_dofs.iter().flatten().copied().collect();
         let flat5: Vec<usize> = blocks.iter().flatten().copied().collect();
-        let hinge_dofs: Vec<[usize; 6]> = match hinge {
+        let hinge_dofs: Vec<[usize; 6]> = match hinges {
             Some(_) => (1..n_el)
                 .map(|k| std::array::from_fn(|i| 2 * (k - 1) + i))
                 .collect(),
@@ -91,11 +97,15 @@ impl Mech {
         };
         let flat6: Vec<usize> = hinge_dofs.iter().flatten().copied().collect();
         let asm = Assembly::new(dofs, &[(4, &flat4), (5, &flat5), (6, &flat6)], &[]);
-        let hinges = hinge.map(|h| ElementSet::new(vec![h], hinge_dofs, &asm));
+        let hinges = hinges.map(|h| ElementSet::new(h, hinge_dofs, &asm));
         // two points per element (more do not change the characteristic: measured with 4, 8)
         let np = 2usize;
-        let w = 2.0 * std::f64::consts::PI * element.radius[0] * element.length / np as f64;
-        let elements = ElementSet::new(vec![element], el_dofs, &asm);
+        let w_of =
+            |e: &AxisymMembrane| 2.0 * std::f64::consts::PI * e.radius[0] * e.length / np as f64;
+        let w = w_of(&elements[0]);
+        let element_w: Vec<f64> = elements.iter().map(w_of).collect();
+        let graded = element_w.iter().any(|&x| x != w);
+        let elements = ElementSet::new(elements, el_dofs, &asm);
         let mut contact =
             ContactPointSet::new(law, obstacles, Connectivity::new(blocks, &asm), [0, 1]);
         let pts: Vec<[f64; 2]> = (0..np)
@@ -105,6 +115,9 @@ impl Mech {
             })
             .collect();
         contact.set_points(pts, w);
+        if graded {
+            contact.set_element_weights(element_w);
+        }
         let n_free = asm.dofs.n_free();
         Self {
             asm,
@@ -122,11 +135,16 @@ impl Mech {
 
 /// Where the sleeve is held: its lower end, the girdle ring, the obstacles (the lower one, then
 /// the top plate) and the start meridian (`n + 1` points from the top bead).
+#[derive(Clone)]
 struct Mounting {
     clamp: [f64; 2],
     girdle: Option<(usize, f64)>,
     obstacles: Vec<AxisymObstacle>,
     start: Vec<[f64; 2]>,
+    /// Reference (stress-free) length of every element [m], from the top bead.
+    lengths: Vec<f64>,
+    /// Whether `start` is already an equilibrium at the design pressure (a remeshed one).
+    loaded: bool,
 }
 
 impl Mounting {
@@ -162,6 +180,8 @@ impl Mounting {
                 AxisymObstacle::Floor { radius: big },
                 AxisymObstacle::Plate { radius: big },
             ],
+            lengths: vec![length / n_el as f64; n_el],
+            loaded: false,
             start,
         })
     }
@@ -344,9 +364,97 @@ impl AirSpring {
                 },
                 AxisymObstacle::Plate { radius: 10.0 * rb },
             ],
+            lengths: vec![length / n_el as f64; n_el],
+            loaded: false,
             start,
         };
-        Self::build_on(scene, p, mounting)
+        let uniform = Self::build_on(scene, p, mounting.clone())?;
+        if p.integer(MODEL_FIDELITY) != 2 {
+            // the shell level revolves this meridian onto its own, uniform material mesh
+            return Ok(uniform);
+        }
+        let (start, lengths) = uniform.graded_mesh(&contour);
+        // should the graded mesh find no equilibrium, the uniform one serves
+        Ok(Self::build_on(
+            scene,
+            p,
+            Mounting {
+                start,
+                lengths,
+                loaded: true,
+                ..mounting
+            },
+        )
+        .unwrap_or(uniform))
+    }
+
+    /// A meridian mesh graded for the rolling lobe from this (uniform) design state: the
+    /// material that can roll through the lobe gets elements [`GRADING`] times shorter than
+    /// the rest (the top bead's side of the outer wall). The discrete characteristic ripples
+    /// as nodes peel off the piston (the departure point of a linear-element meridian moves
+    /// from node to node), with a slope error proportional to the element length there.
+    /// The zone reaches from the clamp (full extension unrolls the sleeve from the piston)
+    /// past the lobe to the material that rolls onto the piston at the largest compression:
+    /// half of `min(2 z_b, h_d − h_p)` (the lobe bottom `z_b` reaching the piston base, or
+    /// the plate the piston top; the lobe rolls at half the plate's speed). Returns the start
+    /// shape (this meridian at the new nodes' material positions) and the element lengths.
+    fn graded_mesh(&self, contour: &[[f64; 2]]) -> (Vec<[f64; 2]>, Vec<f64>) {
+        let n = self.n_el;
+        let mer = self.meridian();
+        let length = self.main.elements.element(0).length * n as f64;
+        let top = contour[contour.len() - 1];
+        let radius_at = |z: f64| -> f64 {
+            for w in contour.windows(2) {
+                if z <= w[1][1] {
+                    let t = ((z - w[0][1]) / (w[1][1] - w[0][1])).max(0.0);
+                    return w[0][0] + t * (w[1][0] - w[0][0]);
+                }
+            }
+            top[0]
+        };
+        // departure: the first node (from the clamp back) off the piston's contour
+        let mut d = n;
+        while d > 1 && mer[d - 1][0] - radius_at(mer[d - 1][1]) < 1e-5 * length {
+            d -= 1;
+        }
+        let low = (1..n)
+            .min_by(|&a, &b| mer[a][1].total_cmp(&mer[b][1]))
+            .unwrap_or(n / 2);
+        let stretched: f64 = mer
+            .windows(2)
+            .map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt())
+            .sum();
+        let stretch = stretched / length;
+        let compression = (2.0 * mer[low][1])
+            .min(self.design_height - top[1])
+            .max(0.0);
+        // material fractions: the lobe's outer half mirrors its inner one
+        let f_low = low as f64 / n as f64;
+        let f_dep = d as f64 / n as f64;
+        let a = (2.0 * f_low - f_dep - 0.5 * compression / (stretch * length)).clamp(0.0, 1.0);
+        // cumulative element density: GRADING per length in [a, 1], 1 before
+        let cum = |f: f64| f.min(a) + GRADING * (f - a).max(0.0);
+        let total = cum(1.0);
+        let frac: Vec<f64> = (0..=n)
+            .map(|k| {
+                let t = total * k as f64 / n as f64;
+                if t <= a { t } else { a + (t - a) / GRADING }
+            })
+            .collect();
+        let start = frac
+            .iter()
+            .map(|&f| {
+                let x = (f * n as f64).clamp(0.0, n as f64);
+                let i = (x.floor() as usize).min(n - 1);
+                let t = x - i as f64;
+                [
+                    mer[i][0] + t * (mer[i + 1][0] - mer[i][0]),
+                    mer[i][1] + t * (mer[i + 1][1] - mer[i][1]),
+                ]
+            })
+            .collect();
+        let lengths = frac.windows(2).map(|w| length * (w[1] - w[0])).collect();
+        (start, lengths)
     }
 
     /// Builds the model on a mounting and solves the design state.
@@ -356,6 +464,8 @@ impl AirSpring {
             girdle,
             obstacles,
             start,
+            lengths,
+            loaded,
         } = m;
         let rb = p.real(TOP_PLATE_BEAD_RADIUS);
         let r0 = p.real(BELLOWS_SLEEVE_RADIUS);
@@ -369,12 +479,17 @@ impl AirSpring {
             matrix_stiffness: p.real(BELLOWS_MATRIX_STIFFNESS),
             tension_only: p.boolean(BELLOWS_TENSION_ONLY),
         };
-        let element = AxisymMembrane::new(
-            length / n_el as f64,
-            [r0, r0],
-            wall,
-            p.real(BELLOWS_DENSITY) * p.real(BELLOWS_THICKNESS),
-        );
+        let elements: Vec<AxisymMembrane> = lengths
+            .iter()
+            .map(|&l| {
+                AxisymMembrane::new(
+                    l,
+                    [r0, r0],
+                    wall,
+                    p.real(BELLOWS_DENSITY) * p.real(BELLOWS_THICKNESS),
+                )
+            })
+            .collect();
         let n_nodes = n_el + 1;
         let n_full = 2 * n_nodes + 2;
         // friction (`contact.mu`): a bristle as stiff per slip as the penalty per penetration
@@ -404,12 +519,16 @@ impl AirSpring {
             constrained[2 * k] = true;
         }
         let d = p.real(BELLOWS_BENDING_STIFFNESS);
-        let ell = length / n_el as f64;
-        let hinge = (d > 0.0).then(|| AxisymHinge::new(d, r0, [ell, ell]));
+        let hinges = (d > 0.0).then(|| {
+            lengths
+                .windows(2)
+                .map(|l| AxisymHinge::new(d, r0, [l[0], l[1]]))
+                .collect::<Vec<_>>()
+        });
         let main = Mech::new(
             n_el,
-            element.clone(),
-            hinge.clone(),
+            elements.clone(),
+            hinges.clone(),
             &constrained,
             law,
             obstacles.clone(),
@@ -417,7 +536,7 @@ impl AirSpring {
         );
         constrained[1] = false;
         constrained[2 * n_nodes + 1] = false;
-        let ext = Mech::new(n_el, element, hinge, &constrained, law, obstacles, length);
+        let ext = Mech::new(n_el, elements, hinges, &constrained, law, obstacles, length);
         let n_ext = ext.asm.dofs.n_free();
         let mut q = vec![0.0; n_full];
         for (k, pt) in start.iter().enumerate() {
@@ -487,7 +606,11 @@ impl AirSpring {
             history_t: [0.0; 3],
             n_history: 0,
         };
-        model.solve_design(pd)?;
+        if loaded {
+            model.continuation((hd, pd), (hd, pd), false)?;
+        } else {
+            model.solve_design(pd)?;
+        }
         let vd = volume_gradient(n_el, &model.q, &mut model.work.grad);
         model.gas.charge(pd, vd).map_err(|e| gas_error(e, &gp))?;
         model.v_charge = model.gas.committed().volume;
