@@ -135,15 +135,15 @@ class LinearModel:
         return self.stiffness(w, r)
 
 
-def wall_derivatives(fmu_path=FMU, factor=0.7):
+def wall_derivatives(fmu_path=FMU, factor=0.7, start_values=None):
     """(V_h, V_p, F_h, F_p) of the quasi-static wall at the design state, from what the FMU
     reports for the closed bag at two polytropic exponents n and factor n (the design state does
     not depend on n). With dp = -(V_h dh + V_p dp)/C_b, C_b = V/(n p):
     1/A_v = 1/V_h + (V_p/V_h) n p/V and k = -F_h + F_p A_v n p/V, both linear in n: two
     exponents give the four derivatives. (Maxwell: F_p = V_h for a wall with a potential.)"""
-    d1 = design_state(fmu_path)
+    d1 = design_state(fmu_path, start_values)
     n1 = d1["gas.polytropic_exponent"]
-    d2 = design_state(fmu_path, {"gas.polytropic_exponent": factor * n1})
+    d2 = design_state(fmu_path, dict(start_values or {}, **{"gas.polytropic_exponent": factor * n1}))
     x = [n * d["gas.pressure"] / d["gas.volume"] for n, d in ((n1, d1), (factor * n1, d2))]
     inv = [1 / d["spring.volumetric_area"] for d in (d1, d2)]
     slope = (inv[0] - inv[1]) / (x[0] - x[1])
@@ -155,16 +155,18 @@ def wall_derivatives(fmu_path=FMU, factor=0.7):
     return v_h, v_p, f_h, f_p
 
 
-def wall_mass(freq=20.0, amp=5e-4, start_values=None):
+def wall_mass(freq=20.0, amp=5e-4, start_values=None, freq_low=2.0):
     """Effective mass [kg] of the sleeve moving with the plate: the two-volume model has none, an
     FMU whose wall has inertia has (bellows.density, with solver.integrator = 1); the shipped
     membrane-level scenes step quasi-statically (no wall inertia, m_w = 0). Measured on the closed
-    bag (scenes/air_spring_axisym.toml, same wall, no reservoir, same integrator): K(w) =
-    spring.stiffness - m_w w^2."""
+    bag (scenes/air_spring_axisym.toml, same wall, no reservoir, same integrator) as the drop of
+    the real part of K(w) = K_wall - m_w w^2 between two frequencies at the same amplitude: the
+    discrete characteristic has a slope sawtooth (nodes leaving the piston), so the secant stiffness
+    of a finite stroke differs from the pointwise spring.stiffness at the design height."""
     closed = ROOT / "build" / "fmus" / "air_spring_axisym.fmu"
-    k, _, _ = measure(freq, amp, closed, start_values)
-    k0 = design_state_closed(closed)
-    return (k0 - k.real) / (2 * math.pi * freq) ** 2
+    k_high, _, _ = measure(freq, amp, closed, start_values)
+    k_low, _, _ = measure(freq_low, amp, closed, start_values)
+    return (k_low.real - k_high.real) / ((2 * math.pi * freq) ** 2 - (2 * math.pi * freq_low) ** 2)
 
 
 def design_state_closed(path):

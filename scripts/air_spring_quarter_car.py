@@ -101,6 +101,9 @@ class QuarterCar:
         self.mj = mujoco
         probe = Fmu(fmu_path)
         start = {k: v for k, v in FMU_START.items() if k in probe.vr}
+        if start:
+            probe.close()
+            probe = Fmu(fmu_path, start)
         self.design, self.f0 = probe.get("spring.design_height", "top.fz")
         self.k_static = probe.get("spring.stiffness")[0]
         probe.close()

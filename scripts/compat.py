@@ -119,9 +119,11 @@ def quiet():
 # 3.3e-10). They step with communication steps that differ from the reference's in the last
 # bits (libcosim counts integer nanoseconds); the FMU keeps its Newton iteration matrix across
 # such a difference (src/solver/newton.rs, same_coeffs), so only round-off propagates, amplified
-# by the pendulum's large rotation most. (Before it did, a refactorization there moved the
-# converged state by up to the Newton tolerance: 9.8e-5 on the belt drive.)
-AGREEMENT = {"cantilever": 1e-10, "pendulum": 1e-8, "belt_drive": 1e-10, "plate": 1e-10, "air_spring_axisym": 1e-10}
+# by the pendulum's large rotation most, and by the air spring's quasi-static steps (contact points
+# on the piston, the predictor: 1.2e-10 since its level-2 mesh is graded, session 32). (Before the
+# matrix was kept, a refactorization there moved the converged state by up to the Newton
+# tolerance: 9.8e-5 on the belt drive.)
+AGREEMENT = {"cantilever": 1e-10, "pendulum": 1e-8, "belt_drive": 1e-10, "plate": 1e-10, "air_spring_axisym": 2e-9}
 
 
 def versions():
