@@ -579,7 +579,7 @@ fn steady_spatial(
 /// points: if the planar belt with one
 /// point per element shows the 3D belt's offsets, the node-only contact is their cause.
 #[test]
-#[ignore = "exploration: prints the loaded planar-limit table, no check (about 10 min)"]
+#[ignore = "exploration: prints the loaded planar-limit table, no check (about a minute)"]
 fn planar_limit_loaded_table() {
     let cases = [
         ("shipped, 10 N m", SHIPPED, 10.0),
