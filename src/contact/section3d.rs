@@ -150,6 +150,9 @@ pub struct SectionContactSet {
     length: f64,
     /// Element length [m] (the Hermite tangents' length).
     element_length: f64,
+    /// Block coordinates the sections move with (the node-only contact: not the second
+    /// node's).
+    used: [bool; SECTION_BLOCK],
     /// Histories by element, station, point, pulley.
     hist: Vec<Pulley3dHistory>,
     loads: Vec<ObstacleLoad<3>>,
@@ -158,6 +161,8 @@ pub struct SectionContactSet {
 /// Point motion, spin maps `G` and `H = ∂v/∂W` of a width point, per node of the element.
 struct PointKinematics {
     motion: PointMotion<3>,
+    /// Whether the point moves with each node.
+    active: [bool; 2],
     /// Weights of the nodes' positions.
     w: [f64; 2],
     g: [Matrix3<f64>; 2],
@@ -214,6 +219,12 @@ impl SectionContactSet {
             })
             .collect();
         let (width_axis, normal_axis) = (width_axis.normalize(), normal_axis.normalize());
+        let used = std::array::from_fn(|i| {
+            i == 12
+                || stations
+                    .iter()
+                    .any(|st| st.w[i / 6] != 0.0 || st.b[i / 6] != 0.0)
+        });
         let mut me = Self {
             law,
             loads: vec![ObstacleLoad::default(); obstacles.len()],
@@ -230,6 +241,7 @@ impl SectionContactSet {
             tangent_axis: normal_axis.cross(&width_axis),
             points,
             stations,
+            used,
             length: 0.0,
             element_length: 0.0,
         };
@@ -358,10 +370,12 @@ impl SectionContactSet {
             [Matrix3::zeros(); 2],
             [Vector3::zeros(); 2],
         );
+        let mut active = [false; 2];
         for n in 0..2 {
             if st.w[n] == 0.0 && st.b[n] == 0.0 {
                 continue;
             }
+            active[n] = true;
             let o = 6 * n;
             let r = Vector3::new(q[dofs[o]], q[dofs[o + 1]], q[dofs[o + 2]]);
             let vel = Vector3::new(v[dofs[o]], v[dofs[o + 1]], v[dofs[o + 2]]);
@@ -375,6 +389,7 @@ impl SectionContactSet {
         }
         PointKinematics {
             motion: PointMotion { r: x, v: xv },
+            active,
             w: st.w,
             g,
             h,
@@ -405,8 +420,6 @@ impl SectionContactSet {
                 let dofs = self.blocks.dofs(b);
                 let (theta, omega) = (q[dofs[12]], v[dofs[12]]);
                 let mut any = false;
-                kb.fill(0.0);
-                cb.fill(0.0);
                 for (i, st) in self.stations.iter().enumerate() {
                     let (c, d) = self.centre(b, st, &rot, q);
                     if !self.near(k, &c, &d) {
@@ -429,9 +442,13 @@ impl SectionContactSet {
                         ) else {
                             continue;
                         };
+                        if !any && jac.is_some() {
+                            kb.fill(0.0);
+                            cb.fill(0.0);
+                        }
                         any = true;
                         for n in 0..2 {
-                            if kin.w[n] == 0.0 && kin.u[n] == Vector3::zeros() {
+                            if !kin.active[n] {
                                 continue;
                             }
                             let moment = kin.g[n].transpose() * res.force;
@@ -449,12 +466,20 @@ impl SectionContactSet {
                 if any && let Some((c, vals)) = jac.as_mut() {
                     // rotation columns of the stiffness: δW = T(θ) δθ, per node
                     for (n, frn) in fr.iter().enumerate() {
+                        if !self.used[6 * n] {
+                            continue;
+                        }
                         let cols = kb.fixed_view::<SECTION_BLOCK, 3>(0, 6 * n + 3) * frn.tangent;
                         kb.fixed_view_mut::<SECTION_BLOCK, 3>(0, 6 * n + 3)
                             .copy_from(&cols);
                     }
-                    let m = kb * c.stiffness + cb * c.damping;
-                    self.blocks.add_matrix(b, &m, -1.0, vals);
+                    self.blocks.add_matrix2_used(
+                        b,
+                        (&kb, -c.stiffness),
+                        (&cb, -c.damping),
+                        &self.used,
+                        vals,
+                    );
                 }
             }
         }
@@ -550,52 +575,69 @@ impl SectionContactSet {
 type Block = SMatrix<f64, SECTION_BLOCK, SECTION_BLOCK>;
 
 /// Derivatives `K = ∂Q/∂(r_a, W_a, r_b, W_b, θ_p)` and `C = ∂Q/∂(v_a, Ω_a, v_b, Ω_b, ω)` of
-/// the generalized forces `Q` = (force and body moment `G_nᵀ F` on each node, torque on the
-/// pulley) of one width point of `kin` (module docs), rotation columns with respect to the
-/// body spins `W_n`. With `J = [w_a I, G_a, w_b I, G_b]` (`δx = J δ(r, W)`, and `∂v/∂(v, Ω)`)
-/// and `Hq = [0, H_a, 0, H_b]` (`∂v/∂W`): `Q_nodes = Jᵀ F`, `∂F/∂q = K J + C Hq`,
-/// `∂F/∂v = C J`, plus `ũ_n (R_nᵀ F)~` on the `(W_n, W_n)` block.
+/// the generalized forces `Q` = (force `w_n F` and body moment `G_nᵀ F` on each node, torque
+/// on the pulley) of one width point of `kin` (module docs), rotation columns with respect
+/// to the body spins `W_n`: with `δx = Σ_n (w_n δr_n + G_n δW_n)` and `∂v/∂W_n = H_n`,
+/// `∂F/∂r_n = w_n K`, `∂F/∂W_n = K G_n + C H_n`, `∂F/∂v_n = w_n C`, `∂F/∂Ω_n = C G_n`, plus
+/// `ũ_n (R_nᵀ F)~` on the `(W_n, W_n)` block. Only the nodes the point moves with
+/// ([`PointKinematics::active`]) are visited: the node-only section costs what one node does.
 fn point_block(kin: &PointKinematics, res: &Pulley3dContact, kb: &mut Block, cb: &mut Block) {
     let kxx = res.k.fixed_view::<3, 3>(0, 0).into_owned();
+    let kxt = res.k.fixed_view::<3, 1>(0, 3).into_owned();
     let ktx = res.k.fixed_view::<1, 3>(3, 0).into_owned();
     let cxx = res.c.fixed_view::<3, 3>(0, 0).into_owned();
+    let cxt = res.c.fixed_view::<3, 1>(0, 3).into_owned();
     let ctx = res.c.fixed_view::<1, 3>(3, 0).into_owned();
-    let mut j = SMatrix::<f64, 3, 12>::zeros();
-    let mut hq = SMatrix::<f64, 3, 12>::zeros();
+    let add = |m: &mut Block, i: usize, j: usize, a: &Matrix3<f64>| {
+        let mut v = m.fixed_view_mut::<3, 3>(i, j);
+        v += a;
+    };
+    let add_col = |m: &mut Block, i: usize, a: &Vector3<f64>| {
+        let mut v = m.fixed_view_mut::<3, 1>(i, 12);
+        v += a;
+    };
+    let add_row = |m: &mut Block, j: usize, a: &nalgebra::RowVector3<f64>| {
+        let mut v = m.fixed_view_mut::<1, 3>(12, j);
+        v += a;
+    };
     for n in 0..2 {
-        for c in 0..3 {
-            j[(c, 6 * n + c)] = kin.w[n];
+        if !kin.active[n] {
+            continue;
         }
-        j.fixed_view_mut::<3, 3>(0, 6 * n + 3).copy_from(&kin.g[n]);
-        hq.fixed_view_mut::<3, 3>(0, 6 * n + 3).copy_from(&kin.h[n]);
-    }
-    // ∂F/∂(q, θ_p) and ∂F/∂(v, ω)
-    let mut fq = SMatrix::<f64, 3, SECTION_BLOCK>::zeros();
-    let mut fv = SMatrix::<f64, 3, SECTION_BLOCK>::zeros();
-    fq.fixed_view_mut::<3, 12>(0, 0)
-        .copy_from(&(kxx * j + cxx * hq));
-    fq.fixed_view_mut::<3, 1>(0, 12)
-        .copy_from(&res.k.fixed_view::<3, 1>(0, 3));
-    fv.fixed_view_mut::<3, 12>(0, 0).copy_from(&(cxx * j));
-    fv.fixed_view_mut::<3, 1>(0, 12)
-        .copy_from(&res.c.fixed_view::<3, 1>(0, 3));
-    let jt = j.transpose();
-    let mut top = kb.fixed_view_mut::<12, SECTION_BLOCK>(0, 0);
-    top += jt * fq;
-    let mut top = cb.fixed_view_mut::<12, SECTION_BLOCK>(0, 0);
-    top += jt * fv;
-    for n in 0..2 {
+        let (wn, gn, hn) = (kin.w[n], kin.g[n], kin.h[n]);
+        // ∂F/∂(r_n, W_n) and ∂F/∂(v_n, Ω_n)
+        let f_r = kxx * wn;
+        let f_w = kxx * gn + cxx * hn;
+        let f_v = cxx * wn;
+        let f_om = cxx * gn;
+        for m in 0..2 {
+            if !kin.active[m] {
+                continue;
+            }
+            let (wm, gmt) = (kin.w[m], kin.g[m].transpose());
+            let (rm, mm, rn, mn) = (6 * m, 6 * m + 3, 6 * n, 6 * n + 3);
+            add(kb, rm, rn, &(f_r * wm));
+            add(kb, rm, mn, &(f_w * wm));
+            add(kb, mm, rn, &(gmt * f_r));
+            add(kb, mm, mn, &(gmt * f_w));
+            add(cb, rm, rn, &(f_v * wm));
+            add(cb, rm, mn, &(f_om * wm));
+            add(cb, mm, rn, &(gmt * f_v));
+            add(cb, mm, mn, &(gmt * f_om));
+        }
+        // the moment's own rotation: δ(R_nᵀ) F = (R_nᵀ F)~ δW_n
         let fb = kin.rot[n].transpose() * res.force;
-        let geo = skew(&kin.u[n]) * skew(&fb);
-        let mut blk = kb.fixed_view_mut::<3, 3>(6 * n + 3, 6 * n + 3);
-        blk += geo;
-    }
-    // torque row
-    let t_q = ktx * j + ctx * hq;
-    let t_v = ctx * j;
-    for c in 0..12 {
-        kb[(12, c)] += t_q[c];
-        cb[(12, c)] += t_v[c];
+        add(kb, 6 * n + 3, 6 * n + 3, &(skew(&kin.u[n]) * skew(&fb)));
+        // pulley-angle column and torque row
+        let gnt = gn.transpose();
+        add_col(kb, 6 * n, &(kxt * wn));
+        add_col(kb, 6 * n + 3, &(gnt * kxt));
+        add_col(cb, 6 * n, &(cxt * wn));
+        add_col(cb, 6 * n + 3, &(gnt * cxt));
+        add_row(kb, 6 * n, &(ktx * wn));
+        add_row(kb, 6 * n + 3, &(ktx * gn + ctx * hn));
+        add_row(cb, 6 * n, &(ctx * wn));
+        add_row(cb, 6 * n + 3, &(ctx * gn));
     }
     kb[(12, 12)] += res.k[(3, 3)];
     cb[(12, 12)] += res.c[(3, 3)];
