@@ -152,7 +152,7 @@ pub struct Contact3d {
 /// nodes"): the planar limit at rest and the loaded drives at 144 elements closer to the
 /// planar drive, the creep much closer, the energy balance better, but the running planar
 /// limit at the shipped 72 elements and 10 N m 0.86/1.11 % above the planar tensions
-/// (node-only: 0.16/0.13 %) and 0.75 × the speed at 240 elements; the choice is left to
+/// (node-only: 0.16/0.13 %) and 0.86/0.70 × the speed at 120/240 elements; the choice is left to
 /// the scene.
 pub const DEFAULT_POINTS_PER_ELEMENT: u8 = 0;
 
