@@ -12,7 +12,8 @@
 //! without its transport predictor (`Belt3d::set_transport_predictor`), with the contact at
 //! the centre line (`contact.width_points` = 1) and across the width (3 points). `--only3`
 //! runs the planar belt and the 3D belt with 3 width points and the predictor only.
-//! `--set key=value` sets a scene parameter (integer or real). `--log` prints the rejections by coordinate kind (node position, node rotation, other) and
+//! `--set key=value` sets a scene parameter (integer or real), `--set3 key=value` one of the
+//! 3D scene only (`contact.points_per_element`, which the planar scene has too). `--log` prints the rejections by coordinate kind (node position, node rotation, other) and
 //! cause (Newton or error estimate). `--max-step H` sets `solver.max_step` (a reference run).
 //! Element counts from the command line (default 60 120 240). Timings are of this run on this
 //! machine; compare the ratios within one run.
@@ -41,6 +42,8 @@ struct Options {
     log: bool,
     max_step: Option<f64>,
     set: Vec<(&'static str, Value)>,
+    /// Parameters of the 3D scene only (`--set3`).
+    set3: Vec<(&'static str, Value)>,
 }
 
 fn run(
@@ -60,6 +63,11 @@ fn run(
     }
     for &(k, ref v) in &o.set {
         p.set(k, *v);
+    }
+    if name != "belt_drive" {
+        for &(k, ref v) in &o.set3 {
+            p.set(k, *v);
+        }
     }
     if let Some(h) = o.max_step {
         p.set("solver.max_step", Value::Real(h));
@@ -148,6 +156,7 @@ fn main() {
         log: false,
         max_step: None,
         set: vec![],
+        set3: vec![],
     };
     let mut only3 = false;
     let mut counts = vec![];
@@ -169,14 +178,19 @@ fn main() {
             "--log" => o.log = true,
             "--only3" => only3 = true,
             "--max-step" => o.max_step = Some(args.next().unwrap().parse().unwrap()),
-            "--set" => {
+            a @ ("--set" | "--set3") => {
                 let kv = args.next().unwrap();
                 let (k, v) = kv.split_once('=').expect("--set key=value");
                 let v = match v.parse::<i32>() {
                     Ok(i) => Value::Integer(i),
                     Err(_) => Value::Real(v.parse().unwrap()),
                 };
-                o.set.push((k.to_string().leak(), v));
+                let list = if a == "--set" {
+                    &mut o.set
+                } else {
+                    &mut o.set3
+                };
+                list.push((k.to_string().leak(), v));
             }
             n => counts.push(n.parse::<i32>().expect("element count")),
         }

@@ -80,6 +80,11 @@ impl Drive {
     }
 
     fn planar(&self, n_el: usize) -> BeltDrive {
+        self.planar_points(n_el, 4)
+    }
+
+    /// The planar drive with `points` contact points per element (at `(i + 0.5)/points`).
+    fn planar_points(&self, n_el: usize, points: usize) -> BeltDrive {
         BeltDrive::new(BeltSpec {
             section: CableSection {
                 ea: self.ea,
@@ -109,7 +114,7 @@ impl Drive {
                 },
             ],
             contact: self.contact(),
-            points_per_element: 4,
+            points_per_element: points,
             gravity: Vector2::zeros(),
             tensioner: None,
             path: BeltPath::Closed {
@@ -191,6 +196,11 @@ impl Drive {
             // the scenes' default, 3 across the width; BELT3D_WIDTH_POINTS=1 measures the
             // planar limit with the centre-line contact
             width_points: std::env::var("BELT3D_WIDTH_POINTS").map_or(3, |v| v.parse().unwrap()),
+            // BELT3D_PPE: contact sections per element (default: the scenes')
+            points_per_element: std::env::var("BELT3D_PPE").map_or(
+                flexfmu::kinds::belt_3d::DEFAULT_POINTS_PER_ELEMENT.into(),
+                |v| v.parse().unwrap(),
+            ),
         })
         .unwrap()
     }
@@ -266,7 +276,8 @@ fn config(h: f64) -> SolverConfig {
         integrator: Integrator::GeneralizedAlpha(GeneralizedAlpha::from_rho_inf(0.8)),
         max_step: h,
         newton: NewtonSettings {
-            tolerance: 1e-7,
+            // BELT3D_TOL: the exploration tables' check of the Newton tolerance
+            tolerance: std::env::var("BELT3D_TOL").map_or(1e-7, |v| v.parse().unwrap()),
             max_iterations: 25,
             policy: NewtonPolicy::Modified,
             line_search: false,
@@ -465,6 +476,177 @@ fn planar_limit_running_drive_equals_planar_drive() {
         assert!(rel(a, b).abs() < 5e-3, "{what}: 3D {a} vs planar {b}");
     }
     assert!(balance.abs() < 0.02, "energy defect {balance}");
+}
+
+/// Runs the planar drive (`points` contact points per element) as
+/// [`planar_limit_running_drive_equals_planar_drive`] does.
+#[allow(clippy::too_many_arguments)]
+fn steady_planar(
+    d: &Drive,
+    n_el: usize,
+    points: usize,
+    h: f64,
+    t_end: f64,
+    window: f64,
+    omega: f64,
+    load: f64,
+    ramp: f64,
+) -> (Steady, f64) {
+    let m = d.planar_points(n_el, points);
+    let rest = m.span_tensions().iter().sum::<f64>() / m.span_tensions().len() as f64;
+    let mut planar = Simulation::new(Box::new(m), config(h), 0.0).unwrap();
+    planar.initialize().unwrap();
+    let s = run_steady(
+        &mut planar,
+        h,
+        t_end,
+        window,
+        omega,
+        load,
+        ramp,
+        |sim, a, w, tq| {
+            let m = sim.model_as_mut::<BeltDrive>().unwrap();
+            m.set_pulley_input(0, PlanarInput::Angle, a);
+            m.set_pulley_input(0, PlanarInput::Omega, w);
+            m.set_pulley_input(1, PlanarInput::Torque, tq);
+        },
+        |sim| {
+            let m = sim.model_as::<BeltDrive>().unwrap();
+            let o = |b| m.output_of(PlanarOutput::Belt(b));
+            [
+                o(BeltOutput::TensionTight),
+                o(BeltOutput::TensionSlack),
+                m.pulley_motion(1).1,
+                o(BeltOutput::Slip),
+                m.pulley_torque(0),
+            ]
+        },
+    );
+    (s, rest)
+}
+
+/// Runs the 3D drive (`m3`, not yet pre-loaded) as
+/// [`planar_limit_running_drive_equals_planar_drive`] does.
+#[allow(clippy::too_many_arguments)]
+fn steady_spatial(
+    d: &Drive,
+    mut m3: Belt3d,
+    h: f64,
+    t_end: f64,
+    window: f64,
+    omega: f64,
+    load: f64,
+    ramp: f64,
+) -> (Steady, f64) {
+    m3.preload(Some(d.pretension), &newton()).unwrap();
+    let rest = m3.span_tensions().iter().sum::<f64>() / m3.span_tensions().len() as f64;
+    let mut spatial = Simulation::new(Box::new(m3), config(h), 0.0).unwrap();
+    spatial.initialize().unwrap();
+    let s = run_steady(
+        &mut spatial,
+        h,
+        t_end,
+        window,
+        omega,
+        load,
+        ramp,
+        |sim, a, w, tq| {
+            let m = sim.model_as_mut::<Belt3d>().unwrap();
+            m.set_pulley_input(0, SpatialInput::Angle, a);
+            m.set_pulley_input(0, SpatialInput::Omega, w);
+            m.set_pulley_input(1, SpatialInput::Torque, tq);
+        },
+        |sim| {
+            let m = sim.model_as::<Belt3d>().unwrap();
+            let t = m.span_tensions();
+            [
+                t[0].max(t[1]),
+                t[0].min(t[1]),
+                m.pulley_motion(1).1,
+                m.slip(),
+                m.pulley_load(0).2,
+            ]
+        },
+    );
+    (s, rest)
+}
+
+/// Loaded and unequal-radii planar limit (issue 13 item 4): the shipped belt at 10 rad/s,
+/// means over 0.6-1.2 s, 1 ms steps; cases: the shipped drive at 10 and 30 N m load, radii
+/// 0.05/0.15 m at 10 N m; 72 and 144 elements (`BELT3D_CASES=i,j` picks cases, `BELT3D_NS`
+/// element counts). Prints the planar drive with 4 and with 1 contact point per element and
+/// the 3D drive (and the planar drive with 2 points), each against the planar drive with 4
+/// points: if the planar belt with one
+/// point per element shows the 3D belt's offsets, the node-only contact is their cause.
+#[test]
+#[ignore = "exploration: prints the loaded planar-limit table, no check (about a minute)"]
+fn planar_limit_loaded_table() {
+    let cases = [
+        ("shipped, 10 N m", SHIPPED, 10.0),
+        ("shipped, 30 N m", SHIPPED, 30.0),
+        (
+            "r 0.05/0.15, 10 N m",
+            Drive {
+                radii: [0.05, 0.15],
+                ..SHIPPED
+            },
+            10.0,
+        ),
+    ];
+    let pick: Vec<usize> = std::env::var("BELT3D_CASES").map_or((0..cases.len()).collect(), |v| {
+        v.split(',').map(|x| x.parse().unwrap()).collect()
+    });
+    let ns: Vec<usize> = std::env::var("BELT3D_NS").map_or(vec![72, 144], |v| {
+        v.split(',').map(|x| x.parse().unwrap()).collect()
+    });
+    let omega: f64 = std::env::var("BELT3D_OMEGA").map_or(10.0, |v| v.parse().unwrap());
+    let load_env: Option<f64> = std::env::var("BELT3D_LOAD")
+        .ok()
+        .map(|v| v.parse().unwrap());
+    let h: f64 = std::env::var("BELT3D_H").map_or(1e-3, |v| v.parse().unwrap());
+    let (t_end, window, ramp) = (1.2, 0.6, 0.2);
+    let rel = |a: f64, b: f64| 100.0 * (a - b) / b;
+    println!("pulley 1 at {omega} rad/s, steps {h} s");
+    println!(
+        "case | elements | model | mean T at rest [N] | T tight [N] | T slack [N] | omega2 [rad/s] | slip [%] | against planar 4 pts: tight, slack, omega2, slip [%]"
+    );
+    for &c in &pick {
+        let (name, d, load) = &cases[c];
+        let load = &load_env.unwrap_or(*load);
+        for &n_el in &ns {
+            let (p4, p4_rest) = steady_planar(d, n_el, 4, h, t_end, window, omega, *load, ramp);
+            let p1 = steady_planar(d, n_el, 1, h, t_end, window, omega, *load, ramp);
+            let p2 = steady_planar(d, n_el, 2, h, t_end, window, omega, *load, ramp);
+            let s = steady_spatial(
+                d,
+                d.spatial(n_el, true),
+                h,
+                t_end,
+                window,
+                omega,
+                *load,
+                ramp,
+            );
+            for (model, (r, rest)) in [
+                ("planar 4 pts", (p4, p4_rest)),
+                ("planar 1 pt", p1),
+                ("planar 2 pts", p2),
+                ("3D", s),
+            ] {
+                println!(
+                    "{name} ({load} N m) | {n_el} | {model} | {rest:.2} | {:.2} | {:.2} | {:.5} | {:.4} | {:+.3}, {:+.3}, {:+.4}, {:+.2}",
+                    r.tight,
+                    r.slack,
+                    r.omega2,
+                    100.0 * r.slip,
+                    rel(r.tight, p4.tight),
+                    rel(r.slack, p4.slack),
+                    rel(r.omega2, p4.omega2),
+                    rel(r.slip, p4.slip),
+                );
+            }
+        }
+    }
 }
 
 /// Walking (issue 13): pulley 2 of `belt_drive_3d` skewed by 0.02 rad (its axis turned about

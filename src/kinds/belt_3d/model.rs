@@ -15,20 +15,25 @@
 //! `log(R_rᵀ R_k)` measure the bending of the mounted belt from a straight one (the belt on
 //! a pulley carries the bending moment `EI/R`, as the 2D cable does).
 //!
-//! Contact points: one per element, at its first node. The co-rotational centre line
-//! between nodes is a cubic of the node rotations, not a linear combination of coordinates;
-//! points on the chord would sit `l² ξ(1 − ξ)/(2R)` inside a pulley of pitch radius `R`
-//! (0.16 mm for 8 mm elements on a 50 mm pulley, far beyond the penalty penetration), so
-//! only the nodes, which lie on the centre line, carry contact; each stands for one
-//! element length. Each node's section touches the rims at `contact.width_points` points
-//! across the width ([`SectionContactSet`]: forces and moments on the node), so that the
-//! belt lies across a crown; on a pulley's arc the mount turns the section onto the rim's
-//! generator (tilted by the crown's slope and the pulley's tilt).
+//! Contact: `contact.points_per_element` sections per element (default 0, see below), at
+//! `(i + 0.5)/m` of its length on the element's cubic Hermite centre line (the nodes'
+//! positions and tangents), each standing for `l/m` ([`SectionContactSet`]: the forces and
+//! moments go to both nodes). Points on the chord would not do: they sit
+//! `l² ξ(1 − ξ)/(2R)` inside a pulley of pitch radius `R` (0.16 mm for 8 mm elements on a
+//! 50 mm pulley, far beyond the penalty penetration). With `points_per_element = 0` (the
+//! default, and the contact before session 32) only the nodes, which lie on the centre line, carry contact,
+//! each standing for one element length: the belt then meets the rims at the node-passing
+//! frequency, which excites the spans and raised the loaded drive's tensions and creep above
+//! the planar drive's (README "Running planar limit"). Each section touches the rims at
+//! `contact.width_points` points across the width, so that the belt lies across a crown; on
+//! a pulley's arc the mount turns the node sections onto the rim's generator (tilted by the
+//! crown's slope and the pulley's tilt).
 
 use super::Belt3dScene;
 use super::path::{SpaceCircle, SpacePath};
 use super::scene::{Input, Output, PulleyInput};
 use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet};
+use crate::contact::section3d::SECTION_BLOCK;
 use crate::contact::{ContactBook, ContactLaw, Pulley3d, SectionContactSet};
 use crate::elements::corotational3d::{
     BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Nodes, Theory, hermite,
@@ -118,10 +123,13 @@ pub struct Belt3dSpec {
     /// quarter-twist drive: arcs in each pulley's plane, spans arriving in the next pulley's
     /// plane, twist spread over the spans) instead of in the plane z = 0.
     pub space_mount: bool,
-    /// Contact points across the belt's width per node (Gauss–Lobatto, 1 … 5;
+    /// Contact points across the belt's width per section (Gauss–Lobatto, 1 … 5;
     /// [`SectionContactSet`]): 1 = the centre line only; more give the contact's moment
     /// about the belt's tangent (a crowned rim centres the belt).
     pub width_points: usize,
+    /// Contact sections per element between the nodes, at `(i + 0.5)/m` of its length on its
+    /// cubic centre line ([`SectionContactSet`]); 0: one section at each node.
+    pub points_per_element: usize,
 }
 
 /// The 3D belt-drive model.
@@ -279,12 +287,16 @@ impl Belt3d {
             &[(ELEMENT_DOFS, connectivity.as_flattened())],
             &extra,
         );
-        let blocks: Vec<[usize; 7]> = (0..n)
+        let blocks: Vec<[usize; SECTION_BLOCK]> = (0..n)
             .flat_map(|e| {
-                let a = node(e);
-                pulley_dof
-                    .iter()
-                    .map(move |&pd| [a, a + 1, a + 2, a + 3, a + 4, a + 5, pd])
+                let (a, b) = (node(e), node(e + 1));
+                pulley_dof.iter().map(move |&pd| {
+                    std::array::from_fn(|i| match i {
+                        0..6 => a + i,
+                        6..12 => b + i - 6,
+                        _ => pd,
+                    })
+                })
             })
             .collect();
         let contact_blocks = Connectivity::new(blocks, &asm);
@@ -347,9 +359,11 @@ impl Belt3d {
             spec.contact,
             obstacles,
             contact_blocks,
+            (0..n).map(|e| [e, (e + 1) % n]).collect(),
             Vector3::z(),
             Vector3::y(),
             spec.width_points,
+            spec.points_per_element,
             l0,
         );
         let lengths = asm
@@ -890,6 +904,7 @@ impl Belt3d {
             gravity: Vector3::new(g(GRAVITY_X), g(GRAVITY_Y), g(GRAVITY_Z)),
             bowing: p.boolean(BELT_BOWING),
             width_points: p.integer(CONTACT_WIDTH_POINTS) as usize,
+            points_per_element: p.integer(CONTACT_POINTS_PER_ELEMENT) as usize,
             space_mount: scene.pulley.iter().any(|s| {
                 Vector3::from(s.axis)
                     .normalize()
@@ -1411,7 +1426,7 @@ mod tests {
     /// pulley 2 (r = 0.08 m, flanged) free with a load torque, its axis tilted by 0.02 rad
     /// about the span direction and offset 2 mm along it; `width_points` contact points
     /// across the belt's width.
-    fn drive(width_points: usize) -> Belt3d {
+    fn drive(width_points: usize, points_per_element: usize) -> Belt3d {
         let (b, t) = (0.03, 0.003);
         let e = 1e8;
         let (ea, g) = (e * b * t, 0.4e8 * b * t);
@@ -1477,6 +1492,7 @@ mod tests {
             bowing: true,
             space_mount: false,
             width_points,
+            points_per_element,
         })
         .unwrap()
     }
@@ -1571,8 +1587,8 @@ mod tests {
     /// from this unbalanced start without pre-load full Newton stalls at step 4 with them).
     #[test]
     fn model_jacobian_matches_finite_differences() {
-        for (width_points, steps) in [(1, 10), (3, 3)] {
-            let mut m = drive(width_points);
+        for (width_points, per_element, steps) in [(1, 0, 10), (3, 0, 3), (3, 2, 3)] {
+            let mut m = drive(width_points, per_element);
             let s = run(&mut m, 0, 5e-4);
             check_jacobian(&mut m, &s);
             let s = run(&mut m, steps, 2e-4);
@@ -1594,7 +1610,7 @@ mod tests {
     /// sagitta and keep the orientations.
     #[test]
     fn transport_predictor_moves_the_belt_along_its_path() {
-        let mut spec = drive(1).spec;
+        let mut spec = drive(1, 0).spec;
         spec.pulleys[1].axis = Vector3::z();
         spec.pulleys[1].center.z = 0.0;
         let mut m = Belt3d::new(spec).unwrap();

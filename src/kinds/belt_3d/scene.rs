@@ -103,6 +103,8 @@ pub mod names {
     pub const CONTACT_FRICTION_STIFFNESS: &str = "contact.friction_stiffness";
     /// Contact points across the belt's width per node (Integer).
     pub const CONTACT_WIDTH_POINTS: &str = "contact.width_points";
+    /// Contact sections per element between the nodes (Integer; 0: at the nodes).
+    pub const CONTACT_POINTS_PER_ELEMENT: &str = "contact.points_per_element";
 }
 
 use names::*;
@@ -332,6 +334,13 @@ pub fn params(s: &Belt3dScene) -> Result<Vec<ParamDef>, String> {
             None,
             "Contact points across the belt's width per node (Gauss-Lobatto, edges included; 1 = the centre line only): with 2 or more the rim pressure over the width gives a moment about the belt's tangent, so a crowned rim centres the belt, and the belt's edges meet the flanges",
             Check::IntRange(1, 5),
+        ),
+        ParamDef::new(
+            CONTACT_POINTS_PER_ELEMENT,
+            Value::Integer(c.points_per_element.into()),
+            None,
+            "Contact sections per element, on the element's cubic centre line at (i + 0.5)/n of its length, each with contact.width_points points across the width (0 = at the nodes only, each node standing for an element length: the belt meets the rims at the node-passing frequency)",
+            Check::IntRange(0, 4),
         ),
     ];
     for (i, p) in s.pulley.iter().enumerate() {
