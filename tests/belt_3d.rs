@@ -362,34 +362,7 @@ fn planar_limit_running_drive_equals_planar_drive() {
     let d = SHIPPED;
     let n_el: usize = std::env::var("BELT3D_N").map_or(72, |v| v.parse().unwrap());
     let (h, t_end, window, omega, load, ramp) = (1e-3, 0.6, 0.1, 10.0, 10.0, 0.2);
-    let mut planar = Simulation::new(Box::new(d.planar(n_el)), config(h), 0.0).unwrap();
-    planar.initialize().unwrap();
-    let p = run_steady(
-        &mut planar,
-        h,
-        t_end,
-        window,
-        omega,
-        load,
-        ramp,
-        |sim, a, w, tq| {
-            let m = sim.model_as_mut::<BeltDrive>().unwrap();
-            m.set_pulley_input(0, PlanarInput::Angle, a);
-            m.set_pulley_input(0, PlanarInput::Omega, w);
-            m.set_pulley_input(1, PlanarInput::Torque, tq);
-        },
-        |sim| {
-            let m = sim.model_as::<BeltDrive>().unwrap();
-            let o = |b| m.output_of(PlanarOutput::Belt(b));
-            [
-                o(BeltOutput::TensionTight),
-                o(BeltOutput::TensionSlack),
-                m.pulley_motion(1).1,
-                o(BeltOutput::Slip),
-                m.pulley_torque(0),
-            ]
-        },
-    );
+    let (p, _) = steady_planar(&d, n_el, 4, h, t_end, window, omega, load, ramp);
     let mut m3 = d.spatial(n_el, true);
     m3.preload(Some(d.pretension), &newton()).unwrap();
     let mut spatial = Simulation::new(Box::new(m3), config(h), 0.0).unwrap();
