@@ -363,10 +363,7 @@ fn planar_limit_running_drive_equals_planar_drive() {
     let n_el: usize = std::env::var("BELT3D_N").map_or(72, |v| v.parse().unwrap());
     let (h, t_end, window, omega, load, ramp) = (1e-3, 0.6, 0.1, 10.0, 10.0, 0.2);
     let (p, _) = steady_planar(&d, n_el, 4, h, t_end, window, omega, load, ramp);
-    let mut m3 = d.spatial(n_el, true);
-    m3.preload(Some(d.pretension), &newton()).unwrap();
-    let mut spatial = Simulation::new(Box::new(m3), config(h), 0.0).unwrap();
-    spatial.initialize().unwrap();
+    let (mut spatial, _) = spatial_sim(&d, d.spatial(n_el, true), h);
     let energy = |sim: &Simulation| {
         let m = sim.model_as::<Belt3d>().unwrap();
         (
@@ -376,32 +373,7 @@ fn planar_limit_running_drive_equals_planar_drive() {
         )
     };
     let e0 = energy(&spatial);
-    let s = run_steady(
-        &mut spatial,
-        h,
-        t_end,
-        window,
-        omega,
-        load,
-        ramp,
-        |sim, a, w, tq| {
-            let m = sim.model_as_mut::<Belt3d>().unwrap();
-            m.set_pulley_input(0, SpatialInput::Angle, a);
-            m.set_pulley_input(0, SpatialInput::Omega, w);
-            m.set_pulley_input(1, SpatialInput::Torque, tq);
-        },
-        |sim| {
-            let m = sim.model_as::<Belt3d>().unwrap();
-            let t = m.span_tensions();
-            [
-                t[0].max(t[1]),
-                t[0].min(t[1]),
-                m.pulley_motion(1).1,
-                m.slip(),
-                m.pulley_load(0).2,
-            ]
-        },
-    );
+    let s = run_spatial(&mut spatial, h, t_end, window, omega, load, ramp);
     // energy balance: work of the drive and the load = change of kinetic, strain and
     // contact energy + dissipation (contact damping, friction, bearing)
     let e1 = energy(&spatial);
@@ -498,25 +470,29 @@ fn steady_planar(
     (s, rest)
 }
 
-/// Runs the 3D drive (`m3`, not yet pre-loaded) as
-/// [`planar_limit_running_drive_equals_planar_drive`] does.
+/// The 3D drive `m3` pre-loaded to the drive's pre-tension, in a simulation with steps `h`,
+/// and its mean span tension at rest [N].
+fn spatial_sim(d: &Drive, mut m3: Belt3d, h: f64) -> (Simulation, f64) {
+    m3.preload(Some(d.pretension), &newton()).unwrap();
+    let rest = m3.span_tensions().iter().sum::<f64>() / m3.span_tensions().len() as f64;
+    let mut spatial = Simulation::new(Box::new(m3), config(h), 0.0).unwrap();
+    spatial.initialize().unwrap();
+    (spatial, rest)
+}
+
+/// Runs the 3D drive in `spatial` as [`planar_limit_running_drive_equals_planar_drive`] does.
 #[allow(clippy::too_many_arguments)]
-fn steady_spatial(
-    d: &Drive,
-    mut m3: Belt3d,
+fn run_spatial(
+    spatial: &mut Simulation,
     h: f64,
     t_end: f64,
     window: f64,
     omega: f64,
     load: f64,
     ramp: f64,
-) -> (Steady, f64) {
-    m3.preload(Some(d.pretension), &newton()).unwrap();
-    let rest = m3.span_tensions().iter().sum::<f64>() / m3.span_tensions().len() as f64;
-    let mut spatial = Simulation::new(Box::new(m3), config(h), 0.0).unwrap();
-    spatial.initialize().unwrap();
-    let s = run_steady(
-        &mut spatial,
+) -> Steady {
+    run_steady(
+        spatial,
         h,
         t_end,
         window,
@@ -540,8 +516,27 @@ fn steady_spatial(
                 m.pulley_load(0).2,
             ]
         },
-    );
-    (s, rest)
+    )
+}
+
+/// Runs the 3D drive (`m3`, not yet pre-loaded) as
+/// [`planar_limit_running_drive_equals_planar_drive`] does.
+#[allow(clippy::too_many_arguments)]
+fn steady_spatial(
+    d: &Drive,
+    m3: Belt3d,
+    h: f64,
+    t_end: f64,
+    window: f64,
+    omega: f64,
+    load: f64,
+    ramp: f64,
+) -> (Steady, f64) {
+    let (mut spatial, rest) = spatial_sim(d, m3, h);
+    (
+        run_spatial(&mut spatial, h, t_end, window, omega, load, ramp),
+        rest,
+    )
 }
 
 /// Loaded and unequal-radii planar limit (issue 13 item 4): the shipped belt at 10 rad/s,
