@@ -280,6 +280,11 @@ impl SectionContactSet {
         &self.law
     }
 
+    /// Replaces the contact constants (the pre-load's frictionless solve).
+    pub fn set_law(&mut self, law: ContactLaw) {
+        self.law = law;
+    }
+
     /// The pulley point `j` of a section meets, its rim and flange weights [m].
     #[inline(always)]
     fn pulley_for(&self, j: usize, k: usize) -> (&Pulley3d, f64, f64) {

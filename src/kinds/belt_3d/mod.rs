@@ -147,14 +147,15 @@ pub struct Contact3d {
     pub points_per_element: u8,
 }
 
-/// Default of `[contact] points_per_element`: 0, the node-only contact. Measured with 2
-/// (session 32, `tests/belt_3d.rs` `planar_limit_loaded_table`, README "Contact between the
-/// nodes"): the planar limit at rest and the loaded drives at 144 elements closer to the
-/// planar drive, the creep much closer, the energy balance better, but the running planar
-/// limit at the shipped 72 elements and 10 N m 0.86/1.11 % above the planar tensions
-/// (node-only: 0.16/0.13 %) and 0.86/0.70 × the speed at 120/240 elements; the choice is left to
-/// the scene.
-pub const DEFAULT_POINTS_PER_ELEMENT: u8 = 0;
+/// Default of `[contact] points_per_element`: 2 (session 33; 0, the node-only contact, before).
+/// Measured (`tests/belt_3d.rs` `planar_limit_loaded_table`, README "Contact between the
+/// nodes"): with both drives pre-loaded in frictionless equilibrium, the 3D drive with 2
+/// sections is within 0.04 % of the planar drive's span tensions at 144 elements (10 and
+/// 30 N m, radii 0.08/0.12 and 0.05/0.15 m) and within 0.5 % at 72, the node-only contact
+/// off by up to 2.9 % at 72 and 0.37 % at 144, with creep errors up to +121 %. The cost per
+/// element and iteration is higher (1.36x at 120 elements in session 32), partly paid back
+/// by fewer iterations.
+pub const DEFAULT_POINTS_PER_ELEMENT: u8 = 2;
 
 fn default_points_per_element() -> u8 {
     DEFAULT_POINTS_PER_ELEMENT

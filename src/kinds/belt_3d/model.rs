@@ -15,13 +15,13 @@
 //! `log(R_rᵀ R_k)` measure the bending of the mounted belt from a straight one (the belt on
 //! a pulley carries the bending moment `EI/R`, as the 2D cable does).
 //!
-//! Contact: `contact.points_per_element` sections per element (default 0, see below), at
+//! Contact: `contact.points_per_element` sections per element (default 2), at
 //! `(i + 0.5)/m` of its length on the element's cubic Hermite centre line (the nodes'
 //! positions and tangents), each standing for `l/m` ([`SectionContactSet`]: the forces and
 //! moments go to both nodes). Points on the chord would not do: they sit
 //! `l² ξ(1 − ξ)/(2R)` inside a pulley of pitch radius `R` (0.16 mm for 8 mm elements on a
 //! 50 mm pulley, far beyond the penalty penetration). With `points_per_element = 0` (the
-//! default, and the contact before session 32) only the nodes, which lie on the centre line, carry contact,
+//! default until session 33) only the nodes, which lie on the centre line, carry contact,
 //! each standing for one element length: the belt then meets the rims at the node-passing
 //! frequency, which excites the spans and raised the loaded drive's tensions and creep above
 //! the planar drive's (README "Running planar limit"). Each section touches the rims at
@@ -164,6 +164,12 @@ pub struct Belt3d {
     held: Option<Vec<f64>>,
     /// Whether time steps start from the transport predictor ([`MechanicalSystem::predict`]).
     transport_predictor: bool,
+    /// During the pre-load's frictionless solve: node 0 is held at this position [m] by a
+    /// spring of this stiffness [N/m] (without friction the belt sliding round its loop and
+    /// along the pulley axes is a mechanism).
+    anchor: Option<(Vector3<f64>, f64)>,
+    /// Whether the static pre-load ended in frictionless equilibrium ([`Belt3d::preload`]).
+    frictionless_preload: bool,
 }
 
 /// Input work and dissipation since the start [J], their rates at the last commit [W], and
@@ -412,6 +418,8 @@ impl Belt3d {
             preload_iterations: 0,
             held: None,
             transport_predictor: true,
+            anchor: None,
+            frictionless_preload: false,
         };
         me.signals = me
             .spec
@@ -523,6 +531,21 @@ impl Belt3d {
     /// belt contact), then, if `pretension` is given, the reference length corrected until
     /// the mean span tension is it within 0.1 % (at most 5 solves, as the planar drive's
     /// pre-load). Returns the Newton iterations.
+    ///
+    /// Each solve with friction is followed by one without ([`Self::frictionless_solve`]):
+    /// the belt is mounted on the rims with its span tension, and with friction the arcs
+    /// keep the tension of the mount where the belt sinks into the rims, while running lets
+    /// them take the tension of a belt sliding on its rims (in frictionless equilibrium the
+    /// axial force on an arc is the span's less `EI/(2ρ²)`, Eshelby's configurational force
+    /// of a bent elastica). The pre-load is the state of a belt after running in (as belt
+    /// makers tension a drive: turned over a few times, then measured on the spans), and it
+    /// does not depend on the contact's penalty and bristle stiffness, which the mount
+    /// would lock into the arcs: issue 13 item 4, session 33: with friction the arcs of the
+    /// shipped drive at rest held 4.8 / 3.3 N less than the spans here and 10.2 / 6.3 N in
+    /// the planar drive, so that the two drives, running, differed by 1 N in mean span
+    /// tension. If the frictionless solve fails or moves a node by more than a tenth of the
+    /// belt width (a belt that would slide across its rims without friction), the solve with
+    /// friction stands ([`Self::preload_was_frictionless`]).
     pub fn preload(
         &mut self,
         pretension: Option<f64>,
@@ -534,32 +557,25 @@ impl Belt3d {
         let n = self.n_free();
         let (mut qf, mut vf) = (vec![0.0; n], vec![0.0; n]);
         let mut iterations = 0;
+        self.frictionless_preload = true;
         for round in 0..5 {
             self.free_state(&mut qf, &mut vf);
-            let st = match crate::solver::statics::solve(self, &mut ws, &mut qf, settings, 8) {
-                Ok(st) => st,
-                Err(e) => {
-                    // a mount with kinks (the quarter-twist path leaves each pulley 15.6° out
-                    // of its plane) is too far from equilibrium for Newton: relax it in pseudo
-                    // time first, then finish with the load path from there
-                    self.free_state(&mut qf, &mut vf);
-                    let relaxed =
-                        crate::solver::statics::relax(self, &mut ws, &mut qf, settings, 400)
-                            .map_err(|r| {
-                                format!("static pre-load of the 3D belt: {e}; relaxation: {r}")
-                            })?;
-                    iterations += relaxed.iterations;
-                    crate::solver::statics::solve(self, &mut ws, &mut qf, settings, 1).map_err(
-                        |e2| {
-                            format!(
-                                "static pre-load of the 3D belt: {e}; after a pseudo-transient relaxation ({} iterations, residual down to {:.1e} of its start): {e2}",
-                                relaxed.iterations, relaxed.reduction
-                            )
-                        },
-                    )?
+            if round == 0 || !self.frictionless_preload {
+                iterations += self.friction_solve(&mut ws, &mut qf, settings)?;
+            }
+            if self.frictionless_preload {
+                let with_friction = qf.clone();
+                match self.frictionless_solve(&mut ws, &mut qf, settings) {
+                    Ok(it) => iterations += it,
+                    Err(_) => {
+                        self.frictionless_preload = false;
+                        qf.copy_from_slice(&with_friction);
+                        if round > 0 {
+                            iterations += self.friction_solve(&mut ws, &mut qf, settings)?;
+                        }
+                    }
                 }
-            };
-            iterations += st.newton.iterations;
+            }
             let mut state = DynState::zeros(n, self.st.t);
             state.q.copy_from_slice(&qf);
             self.st.accept(&mut state, |_, _, _| {});
@@ -576,6 +592,82 @@ impl Belt3d {
             self.set_reference_length(l);
         }
         Ok(iterations)
+    }
+
+    /// Whether the static pre-load ended in frictionless equilibrium ([`Self::preload`]).
+    pub fn preload_was_frictionless(&self) -> bool {
+        self.frictionless_preload
+    }
+
+    /// Static solve with the scene's friction from the free coordinates `qf` (the mounted
+    /// belt, or the last equilibrium); the Newton iterations.
+    fn friction_solve(
+        &mut self,
+        ws: &mut crate::solver::newton::Workspace,
+        qf: &mut [f64],
+        settings: &crate::solver::newton::NewtonSettings,
+    ) -> Result<usize, String> {
+        match crate::solver::statics::solve(self, ws, qf, settings, 8) {
+            Ok(st) => Ok(st.newton.iterations),
+            Err(e) => {
+                // a mount with kinks (the quarter-twist path leaves each pulley 15.6° out
+                // of its plane) is too far from equilibrium for Newton: relax it in pseudo
+                // time first, then finish with the load path from there
+                let mut vf = vec![0.0; qf.len()];
+                self.free_state(qf, &mut vf);
+                let relaxed = crate::solver::statics::relax(self, ws, qf, settings, 400)
+                    .map_err(|r| format!("static pre-load of the 3D belt: {e}; relaxation: {r}"))?;
+                let st = crate::solver::statics::solve(self, ws, qf, settings, 1).map_err(|e2| {
+                    format!(
+                        "static pre-load of the 3D belt: {e}; after a pseudo-transient relaxation ({} iterations, residual down to {:.1e} of its start): {e2}",
+                        relaxed.iterations, relaxed.reduction
+                    )
+                })?;
+                Ok(relaxed.iterations + st.newton.iterations)
+            }
+        }
+    }
+
+    /// Static solve without friction from the equilibrium with friction in `qf`: `μ = 0` on
+    /// every rim and flange, node 0 held where it is by a spring of `EA/L` (`L` the loop
+    /// length) in all three directions (without friction the belt sliding round its loop, or
+    /// along flat rims, is a mechanism; at equilibrium the spring carries no load but what
+    /// the friction carried in that direction). Fails if Newton does not converge or a node
+    /// moves by more than a tenth of the belt width.
+    fn frictionless_solve(
+        &mut self,
+        ws: &mut crate::solver::newton::Workspace,
+        qf: &mut [f64],
+        settings: &crate::solver::newton::NewtonSettings,
+    ) -> Result<usize, String> {
+        let law = *self.contact.law();
+        self.contact.set_law(ContactLaw { mu: 0.0, ..law });
+        let length = self.element_length() * self.n_nodes as f64;
+        let (mut full0, mut full1) = (self.st.q.clone(), self.st.q.clone());
+        self.st.asm.dofs.expand(qf, &mut full0);
+        let x0 = Vector3::from_column_slice(&full0[..3]);
+        self.anchor = Some((x0, self.spec.section.ea / length));
+        let solved = crate::solver::statics::solve(self, ws, qf, settings, 1);
+        self.contact.set_law(law);
+        self.anchor = None;
+        let st = solved.map_err(|e| e.to_string())?;
+        // the largest move of a node [m]
+        self.st.asm.dofs.expand(qf, &mut full1);
+        let moved = (0..self.n_nodes)
+            .map(|k| {
+                let i = k * NODE_DOFS;
+                (Vector3::from_column_slice(&full1[i..i + 3])
+                    - Vector3::from_column_slice(&full0[i..i + 3]))
+                .norm()
+            })
+            .fold(0.0, f64::max);
+        if moved > 0.1 * self.spec.width {
+            return Err(format!(
+                "a node moved {moved:.2e} m without friction (belt width {} m)",
+                self.spec.width
+            ));
+        }
+        Ok(st.newton.iterations)
     }
 
     /// Number of belt nodes (= elements).
@@ -798,6 +890,17 @@ impl Belt3d {
                     let i = self.st.asm.dofs.free_index(d).expect("free pulley");
                     let pos = self.st.asm.pattern.position(i, i).expect("diagonal");
                     vals[pos] += c.mass * inertia + c.damping * damping + c.stiffness * k_hold;
+                }
+            }
+        }
+        if let Some((x0, k)) = self.anchor {
+            for (i, x) in x0.iter().enumerate() {
+                fw[i] += k * (self.st.qw[i] - x);
+                if let Some((c, vals)) = jac.as_mut()
+                    && let Some(f) = self.st.asm.dofs.free_index(i)
+                {
+                    let pos = self.st.asm.pattern.position(f, f).expect("diagonal");
+                    vals[pos] += c.stiffness * k;
                 }
             }
         }
