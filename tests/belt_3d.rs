@@ -1433,4 +1433,3 @@ fn arcs_at_rest_carry_the_span_tension_less_ei_over_two_rho_squared() {
         }
     }
 }
-
