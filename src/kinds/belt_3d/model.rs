@@ -1062,11 +1062,16 @@ impl Belt3d {
 
     /// `1 − ω_last ρ_last / (ω_1 ρ_1)` (0 while pulley 1 is at rest).
     pub fn slip(&self) -> f64 {
+        self.pulley_slip(self.contact.obstacles().len() - 1)
+    }
+
+    /// Speed loss of pulley `k` against pulley 1, `1 − ω_k ρ_k/(ω_1 ρ_1)` (0 while pulley 1 is
+    /// at rest).
+    pub fn pulley_slip(&self, k: usize) -> f64 {
         let ob = self.contact.obstacles();
-        let last = ob.len() - 1;
         let v1 = self.st.v[self.pulley_dof[0]] * ob[0].radius;
-        let vn = self.st.v[self.pulley_dof[last]] * ob[last].radius;
-        if v1.abs() > 1e-12 { 1.0 - vn / v1 } else { 0.0 }
+        let vk = self.st.v[self.pulley_dof[k]] * ob[k].radius;
+        if v1.abs() > 1e-12 { 1.0 - vk / v1 } else { 0.0 }
     }
 
     /// Kinetic energy of belt and free pulleys [J].
@@ -1126,6 +1131,8 @@ impl Belt3d {
             Output::PulleyAngle(k) => self.st.q[self.pulley_dof[k]],
             Output::PulleyOmega(k) => self.st.v[self.pulley_dof[k]],
             Output::Lateral(k) => self.lateral(k),
+            Output::PulleySlip(k) => self.pulley_slip(k),
+            Output::SpanTension(i) => self.tensions[i],
             Output::TensionTight => tmax(),
             Output::TensionSlack => tmin(),
             Output::Slip => self.slip(),

@@ -48,6 +48,12 @@ pub enum Output {
     /// `beltN.lateral`: mean axial position of the belt's contact points on pulley N, from
     /// the rim's middle along its axis [m].
     Lateral(usize),
+    /// `pulleyN.slip`: speed loss against pulley 1 [1] (drives of three or more pulleys, as the
+    /// planar drive).
+    PulleySlip(usize),
+    /// `spanN.tension`: axial force in the middle of span N, from pulley N to pulley N + 1 [N]
+    /// (drives of three or more pulleys, as the planar drive).
+    SpanTension(usize),
     /// `belt.tension_tight` [N].
     TensionTight,
     /// `belt.tension_slack` [N].
@@ -505,6 +511,29 @@ pub fn io(s: &Belt3dScene) -> KindIo<Input, Output> {
             "Axial force of the belt's edges on the pulley's flanges (along the pulley axis, signed)",
             Output::FlangeForce(i),
         );
+        if s.pulley.len() >= 3 {
+            out(
+                format!("pulley{n}.slip"),
+                Unit::One,
+                "Speed loss of the pulley against pulley 1 by creep and sliding: 1 - omega rho/(omega_1 rho_1), rho = pitch radius, omega about the pulley's own axis (0 while pulley 1 is at rest)",
+                Output::PulleySlip(i),
+            );
+        }
+    }
+    if s.pulley.len() >= 3 {
+        for i in 0..s.pulley.len() {
+            out(
+                format!("span{}.tension", i + 1),
+                Unit::N,
+                &format!(
+                    "Axial force in the middle of span {}, from pulley {} to pulley {}",
+                    i + 1,
+                    i + 1,
+                    (i + 1) % s.pulley.len() + 1
+                ),
+                Output::SpanTension(i),
+            );
+        }
     }
     for i in 0..s.pulley.len() {
         out(
