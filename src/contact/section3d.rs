@@ -430,6 +430,9 @@ impl SectionContactSet {
             .map_or((0.0, 0.0), |(c, _)| (c.stiffness, c.damping));
         let mut mb = Block::zeros();
         for (e, nodes) in self.elements.iter().enumerate() {
+            if !(0..no).any(|k| self.element_near(e * no + k, k, q)) {
+                continue;
+            }
             let fr = [&frames[nodes[0]], &frames[nodes[1]]];
             let rot = [fr[0].rot, fr[1].rot];
             let tangents = [fr[0].tangent, fr[1].tangent];
