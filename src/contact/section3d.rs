@@ -989,6 +989,61 @@ mod tests {
         }
     }
 
+    /// The broad phase per element ([`SectionContactSet::element_near`]) rejects only
+    /// elements none of whose sections passes the section test: random elements around the
+    /// crowned, flanged, skewed pulley (first node within 0.15 m of its centre per axis, the
+    /// second up to 17 mm away, four times the element length, random orientations), 0 to 3
+    /// sections per element.
+    #[test]
+    fn broad_phase_keeps_every_near_section() {
+        let p = pulley(0.008, 0.105);
+        let mut seed = 0x5eed_u64;
+        let mut rnd = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        for per_element in 0..=3 {
+            let (s, _, mut fr) =
+                set_along(p, 3, per_element, law(), [UnitQuaternion::identity(); 2]);
+            let mut count = [0usize; 3];
+            for _ in 0..20000 {
+                let ra = p.center + 0.15 * Vector3::new(rnd(), rnd(), rnd());
+                let rb = ra + 0.01 * Vector3::new(rnd(), rnd(), rnd());
+                let q = [
+                    ra.x,
+                    ra.y,
+                    ra.z,
+                    rnd(),
+                    rnd(),
+                    rnd(),
+                    rb.x,
+                    rb.y,
+                    rb.z,
+                    rnd(),
+                    rnd(),
+                    rnd(),
+                    0.0,
+                ];
+                fr.update(&q);
+                let rot = [fr.current()[0].rot, fr.current()[1].rot];
+                let near = s.stations.iter().any(|st| {
+                    let (c, d) = s.centre(0, st, &rot, &q);
+                    s.near(0, &c, &d)
+                });
+                let broad = s.element_near(0, 0, &q);
+                assert!(
+                    broad || !near,
+                    "{per_element} sections: a near section rejected at {q:?}"
+                );
+                count[usize::from(near) + usize::from(broad)] += 1;
+            }
+            // some elements are rejected, some pass without a near section, some are near
+            assert!(count.iter().all(|&c| c > 100), "{count:?}");
+        }
+    }
+
     /// Sections between the nodes lie on the pulley where the belt does: an element wrapped
     /// on a flat rim (both nodes pressed in by δ = 20 µm, tangents along the rim, frictionless,
     /// at rest) presses on it with `k_n l δ` in total (smoothed penalty: `δ − δ₀/2`), along
