@@ -142,6 +142,10 @@ pub struct Workspace {
     kept_rate: Option<f64>,
     /// Whether the first iteration of a solve with a kept matrix is judged by `kept_rate`.
     trust_kept: bool,
+    /// Whether a solve that converged with a kept matrix contracting slower than
+    /// `rebuild_rate` leaves it for a fresh one in the next solve
+    /// ([`MechanicalSystem::rebuilds_slow_kept_matrix`]).
+    rebuild_slow: bool,
     /// Running mean of the failures of a kept matrix in the second iteration of a solve that
     /// started with a fresh one (see [`SECOND_FRESH_THRESHOLD`]) [1].
     second_failures: f64,
@@ -183,6 +187,7 @@ impl Workspace {
             second_probe: 0,
             learn_second: sys.learns_second_iteration(),
             trust_kept: sys.trusts_kept_contraction(),
+            rebuild_slow: sys.rebuilds_slow_kept_matrix(),
             rebuild_rate: sys.modified_newton_rate(),
             max_cuts: sys.line_search_cuts(),
         })
@@ -373,6 +378,11 @@ pub fn solve(
         if inc <= settings.tolerance && estimate <= settings.tolerance {
             if !modified {
                 ws.factored = None;
+            } else if ws.rebuild_slow && !fresh && last.is_finite() && rate > ws.rebuild_rate {
+                // converged, but the kept matrix contracts slowly: the next solve would take
+                // at least two iterations with it again (its rate is not trusted)
+                ws.factored = None;
+                ws.kept_rate = None;
             }
             return Ok(stats);
         }

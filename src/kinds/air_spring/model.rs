@@ -1342,6 +1342,11 @@ impl MechanicalSystem for AirSpring {
         true
     }
 
+    /// A kept matrix that contracts slowly is not trusted: rebuilt for the next step.
+    fn rebuilds_slow_kept_matrix(&self) -> bool {
+        true
+    }
+
     /// The wall is held by the bead and the clamp, the plate's motion is prescribed and the
     /// gas pressure inflates it: every coordinate has its equilibrium, inertia is optional.
     fn set_quasi_static(&mut self, on: bool) -> bool {
