@@ -431,8 +431,55 @@ mod tests {
             second_probe: 0,
             learn_second: learn,
             trust_kept: false,
+            rebuild_slow: false,
             rebuild_rate: MODIFIED_NEWTON_RATE,
             max_cuts: LINE_SEARCH_MAX_CUTS,
+        }
+    }
+
+    /// A solve that converges with a kept matrix contracting slower than the rebuild rate
+    /// leaves it for a fresh one in the next solve when the model asks
+    /// ([`MechanicalSystem::rebuilds_slow_kept_matrix`]), and keeps it otherwise.
+    #[test]
+    fn slow_kept_matrix_is_dropped_after_convergence_on_request() {
+        let settings = NewtonSettings {
+            tolerance: 1e-6,
+            max_iterations: 10,
+            policy: NewtonPolicy::Modified,
+            line_search: false,
+        };
+        let coeffs = JacobianCoeffs {
+            mass: 0.0,
+            damping: 0.0,
+            stiffness: 1.0,
+        };
+        for rebuild in [false, true] {
+            let mut ws = scalar_workspace(false);
+            ws.rebuild_slow = rebuild;
+            // r = 2 (x − 1) with its exact matrix: converged, the matrix kept (rate 0)
+            let mut x = [0.0];
+            solve(&mut ws, &mut x, &settings, 1.0, coeffs, |x, r, jac| {
+                r[0] = 2.0 * (x[0] - 1.0);
+                if let Some(j) = jac {
+                    j[0] = 2.0;
+                }
+                Ok(true)
+            })
+            .unwrap();
+            assert!(ws.is_factored(&coeffs));
+            // r = 3 (x − 2) from within the tolerance: the kept matrix (2) contracts at 1/2,
+            // the first increment is not trusted, the second converges
+            let mut x = [2.0 + 0.5e-6];
+            let stats = solve(&mut ws, &mut x, &settings, 1.0, coeffs, |x, r, jac| {
+                r[0] = 3.0 * (x[0] - 2.0);
+                if let Some(j) = jac {
+                    j[0] = 3.0;
+                }
+                Ok(true)
+            })
+            .unwrap();
+            assert_eq!((stats.iterations, stats.factorizations), (2, 0));
+            assert_eq!(ws.is_factored(&coeffs), !rebuild, "rebuild_slow {rebuild}");
         }
     }
 
