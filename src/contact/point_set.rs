@@ -371,6 +371,28 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
     /// on the obstacles ([`Self::loads`]) and the energy terms. `initial`: no contact is
     /// evaluated (histories at rest).
     pub fn commit(&mut self, q: &[f64], v: &[f64], initial: bool) -> ContactBook {
+        self.commit_with::<true>(q, v, initial)
+    }
+
+    /// [`Self::commit`] without new histories: the loads on the obstacles and the energy
+    /// terms of the state at full coordinates `q`, velocities `v`, evaluated with the
+    /// histories as they are, which stay unchanged. For a frictionless contact whose
+    /// obstacle reads its history only for friction (the air spring's [`AxisymObstacle`] with
+    /// `mu = 0`: the loads and the book are those of [`Self::commit`], the histories unused),
+    /// it skips the points out of reach and the pass that records every point's position.
+    ///
+    /// [`AxisymObstacle`]: super::revolution::AxisymObstacle
+    pub fn commit_loads(&mut self, q: &[f64], v: &[f64]) -> ContactBook {
+        self.commit_with::<false>(q, v, false)
+    }
+
+    /// [`Self::commit`] (`HISTORIES`) or [`Self::commit_loads`].
+    fn commit_with<const HISTORIES: bool>(
+        &mut self,
+        q: &[f64],
+        v: &[f64],
+        initial: bool,
+    ) -> ContactBook {
         let no = self.obstacles.len();
         let n_cp = self.points_per_element();
         self.loads.fill(ObstacleLoad::default());
@@ -378,6 +400,9 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
         for e in 0..self.n_elements {
             for k in 0..no {
                 let near = self.near(e, k, q);
+                if !HISTORIES && !near {
+                    continue;
+                }
                 let b = e * no + k;
                 for i in 0..n_cp {
                     let idx = (e * n_cp + i) * no + k;
@@ -402,7 +427,9 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
                         book.dissipation += r.dissipation();
                         book.friction_work += O::friction_work(self.w_of(e), &h, r);
                     }
-                    self.hist[idx] = ob.committed(&p, &x, res.as_ref());
+                    if HISTORIES {
+                        self.hist[idx] = ob.committed(&p, &x, res.as_ref());
+                    }
                 }
             }
         }

@@ -107,7 +107,10 @@ impl AxisymMembrane {
         }
     }
 
-    /// Energy [J], and if asked the internal force and the tangent stiffness.
+    /// Energy [J], and if asked the internal force and the tangent stiffness. Inlined into
+    /// each caller, so that a call without the tangent (the residual of a modified-Newton
+    /// iteration) does not compute the wall law's second derivatives.
+    #[inline(always)]
     fn evaluate(
         &self,
         q: &SVector<f64, 4>,

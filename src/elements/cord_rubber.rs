@@ -48,6 +48,7 @@ impl CordRubberWall {
 
     /// [`CordRubberWall::axisym`] with `(sin α₀, cos α₀)` of the cord angle given (a caller
     /// that evaluates many points keeps them).
+    #[inline(always)]
     pub fn axisym_with(&self, ls: f64, lt: f64, (s, c): (f64, f64)) -> AxisymEnergy {
         let et = self.matrix_stiffness;
         let mut e = AxisymEnergy {

@@ -149,6 +149,18 @@ pub trait MechanicalSystem {
         false
     }
 
+    /// Whether modified Newton drops a kept iteration matrix after a solve that converged
+    /// with it although it contracted slower than the rebuild rate
+    /// ([`MechanicalSystem::modified_newton_rate`]) in its last iteration, so that the next
+    /// solve starts with a fresh one. Default: no, the matrix is kept while solves converge.
+    /// For a model whose kept matrix [`MechanicalSystem::trusts_kept_contraction`]: a slow
+    /// rate is not trusted, so every following solve would take two iterations or more with
+    /// that matrix (the air spring's membrane level, where each converges in its second
+    /// iteration and the matrix is never rebuilt).
+    fn rebuilds_slow_kept_matrix(&self) -> bool {
+        false
+    }
+
     /// Contraction rate of the scaled increments above which modified Newton rebuilds and
     /// refactorizes the iteration matrix [1]. A rebuild costs the matrix and a factorization,
     /// a slower iteration with the kept matrix a residual and a solve: a model whose matrix

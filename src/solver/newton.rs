@@ -142,6 +142,10 @@ pub struct Workspace {
     kept_rate: Option<f64>,
     /// Whether the first iteration of a solve with a kept matrix is judged by `kept_rate`.
     trust_kept: bool,
+    /// Whether a solve that converged with a kept matrix contracting slower than
+    /// `rebuild_rate` leaves it for a fresh one in the next solve
+    /// ([`MechanicalSystem::rebuilds_slow_kept_matrix`]).
+    rebuild_slow: bool,
     /// Running mean of the failures of a kept matrix in the second iteration of a solve that
     /// started with a fresh one (see [`SECOND_FRESH_THRESHOLD`]) [1].
     second_failures: f64,
@@ -183,6 +187,7 @@ impl Workspace {
             second_probe: 0,
             learn_second: sys.learns_second_iteration(),
             trust_kept: sys.trusts_kept_contraction(),
+            rebuild_slow: sys.rebuilds_slow_kept_matrix(),
             rebuild_rate: sys.modified_newton_rate(),
             max_cuts: sys.line_search_cuts(),
         })
@@ -373,6 +378,11 @@ pub fn solve(
         if inc <= settings.tolerance && estimate <= settings.tolerance {
             if !modified {
                 ws.factored = None;
+            } else if ws.rebuild_slow && !fresh && last.is_finite() && rate > ws.rebuild_rate {
+                // converged, but the kept matrix contracts slowly: the next solve would take
+                // at least two iterations with it again (its rate is not trusted)
+                ws.factored = None;
+                ws.kept_rate = None;
             }
             return Ok(stats);
         }
@@ -421,8 +431,55 @@ mod tests {
             second_probe: 0,
             learn_second: learn,
             trust_kept: false,
+            rebuild_slow: false,
             rebuild_rate: MODIFIED_NEWTON_RATE,
             max_cuts: LINE_SEARCH_MAX_CUTS,
+        }
+    }
+
+    /// A solve that converges with a kept matrix contracting slower than the rebuild rate
+    /// leaves it for a fresh one in the next solve when the model asks
+    /// ([`MechanicalSystem::rebuilds_slow_kept_matrix`]), and keeps it otherwise.
+    #[test]
+    fn slow_kept_matrix_is_dropped_after_convergence_on_request() {
+        let settings = NewtonSettings {
+            tolerance: 1e-6,
+            max_iterations: 10,
+            policy: NewtonPolicy::Modified,
+            line_search: false,
+        };
+        let coeffs = JacobianCoeffs {
+            mass: 0.0,
+            damping: 0.0,
+            stiffness: 1.0,
+        };
+        for rebuild in [false, true] {
+            let mut ws = scalar_workspace(false);
+            ws.rebuild_slow = rebuild;
+            // r = 2 (x − 1) with its exact matrix: converged, the matrix kept (rate 0)
+            let mut x = [0.0];
+            solve(&mut ws, &mut x, &settings, 1.0, coeffs, |x, r, jac| {
+                r[0] = 2.0 * (x[0] - 1.0);
+                if let Some(j) = jac {
+                    j[0] = 2.0;
+                }
+                Ok(true)
+            })
+            .unwrap();
+            assert!(ws.is_factored(&coeffs));
+            // r = 3 (x − 2) from within the tolerance: the kept matrix (2) contracts at 1/2,
+            // the first increment is not trusted, the second converges
+            let mut x = [2.0 + 0.5e-6];
+            let stats = solve(&mut ws, &mut x, &settings, 1.0, coeffs, |x, r, jac| {
+                r[0] = 3.0 * (x[0] - 2.0);
+                if let Some(j) = jac {
+                    j[0] = 3.0;
+                }
+                Ok(true)
+            })
+            .unwrap();
+            assert_eq!((stats.iterations, stats.factorizations), (2, 0));
+            assert_eq!(ws.is_factored(&coeffs), !rebuild, "rebuild_slow {rebuild}");
         }
     }
 
