@@ -167,7 +167,10 @@ pub struct Belt3d {
     /// During the pre-load's frictionless solve: node 0 is held at this position [m] by a
     /// spring of this stiffness [N/m] (without friction the belt sliding round its loop and
     /// along the pulley axes is a mechanism).
-    anchor: Option<(Vector3<f64>, f64)>,
+    /// Only along the belt's tangent and width direction there (the two directions it can
+    /// slide in): a spring holding the node against the rim or across a span would leave its
+    /// force in the equilibrium.
+    anchor: Option<(Vector3<f64>, [Vector3<f64>; 2], f64)>,
     /// Whether the static pre-load ended in frictionless equilibrium ([`Belt3d::preload`]).
     frictionless_preload: bool,
 }
@@ -557,6 +560,8 @@ impl Belt3d {
         let n = self.n_free();
         let (mut qf, mut vf) = (vec![0.0; n], vec![0.0; n]);
         let mut iterations = 0;
+        // the last round's reference length and mean span tension (secant correction)
+        let mut last: Option<(f64, f64)> = None;
         self.frictionless_preload = true;
         for round in 0..5 {
             self.free_state(&mut qf, &mut vf);
@@ -587,8 +592,13 @@ impl Belt3d {
             if (mean - target).abs() <= 1e-3 * target || round == 4 {
                 break;
             }
-            let ea = self.spec.section.ea;
-            let l = self.element_length() * (1.0 + mean / ea) / (1.0 + target / ea);
+            let l_now = self.element_length();
+            let l = crate::kinds::belt_drive::preload::secant_length(l_now, mean, last, target)
+                .unwrap_or_else(|| {
+                    let ea = self.spec.section.ea;
+                    l_now * (1.0 + mean / ea) / (1.0 + target / ea)
+                });
+            last = Some((l_now, mean));
             self.set_reference_length(l);
         }
         Ok(iterations)
@@ -646,7 +656,13 @@ impl Belt3d {
         let (mut full0, mut full1) = (self.st.q.clone(), self.st.q.clone());
         self.st.asm.dofs.expand(qf, &mut full0);
         let x0 = Vector3::from_column_slice(&full0[..3]);
-        self.anchor = Some((x0, self.spec.section.ea / length));
+        // node 0's tangent and width direction: the columns 1 and 3 of its frame
+        let frame = self.st.frames.rotation(0, &full0);
+        let dirs = [
+            (frame * Vector3::x()).normalize(),
+            (frame * Vector3::z()).normalize(),
+        ];
+        self.anchor = Some((x0, dirs, self.spec.section.ea / length));
         let solved = crate::solver::statics::solve(self, ws, qf, settings, 1);
         self.contact.set_law(law);
         self.anchor = None;
@@ -893,14 +909,25 @@ impl Belt3d {
                 }
             }
         }
-        if let Some((x0, k)) = self.anchor {
-            for (i, x) in x0.iter().enumerate() {
-                fw[i] += k * (self.st.qw[i] - x);
-                if let Some((c, vals)) = jac.as_mut()
-                    && let Some(f) = self.st.asm.dofs.free_index(i)
-                {
-                    let pos = self.st.asm.pattern.position(f, f).expect("diagonal");
-                    vals[pos] += c.stiffness * k;
+        if let Some((x0, dirs, k)) = self.anchor {
+            let d = Vector3::from_column_slice(&self.st.qw[..3]) - x0;
+            for e in dirs {
+                let along = k * e.dot(&d);
+                for i in 0..3 {
+                    fw[i] += along * e[i];
+                }
+                if let Some((c, vals)) = jac.as_mut() {
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            if let (Some(a), Some(b)) = (
+                                self.st.asm.dofs.free_index(i),
+                                self.st.asm.dofs.free_index(j),
+                            ) {
+                                let pos = self.st.asm.pattern.position(a, b).expect("node block");
+                                vals[pos] += c.stiffness * k * e[i] * e[j];
+                            }
+                        }
+                    }
                 }
             }
         }
