@@ -51,7 +51,9 @@ impl BeltDrive {
     /// pre-load 30 % above the design balance: spans 432 N, arcs down to 353 N, the arm
     /// 20 % short of its travel). Without friction the belt sliding round its loop is a
     /// mechanism; the first belt node is held at its mounted position by a spring of `EA/L`
-    /// (L the loop length). Without torques and friction nothing drives the belt round its
+    /// (L the loop length) along the belt's tangent there (only the sliding direction: a
+    /// spring holding it against the rim or across a span too kept its force in the
+    /// equilibrium, released at t = 0; session 33, qa33). Without torques and friction nothing drives the belt round its
     /// loop, so the spring only fixes that mode (softer springs, 1e-4..1e-2 EA/L, left Newton
     /// wandering along it from the mounted state of the shipped drive), and
     /// the free pulleys by a soft bearing spring (`pulleys.rs`). The commit under `mu = 0`
@@ -182,8 +184,8 @@ impl BeltDrive {
 
     /// Static solve without friction from the equilibrium with friction in the free
     /// coordinates `qf` (drives without a tensioner, see [`Self::preload`]): `μ = 0` on every
-    /// pulley, the first belt node held where it is by a spring of `EA/L` (the loop sliding
-    /// round the pulleys is a mechanism without friction). Fails, leaving `qf` as it was, if
+    /// pulley, the first belt node held where it is by a spring of `EA/L` along the belt's
+    /// tangent (the loop sliding round the pulleys is a mechanism without friction). Fails, leaving `qf` as it was, if
     /// Newton does not converge. Returns the Newton iterations.
     fn frictionless_solve(
         &mut self,
