@@ -584,8 +584,13 @@ impl Belt3d {
             let mut state = DynState::zeros(n, self.st.t);
             state.q.copy_from_slice(&qf);
             self.st.accept(&mut state, |_, _, _| {});
+            // histories at rest after a frictionless solve; after a solve with friction (the
+            // fallback) they keep the bristles' deflection, which that equilibrium needs (as
+            // the planar pre-load's commit): reset, the initial static solve let the stuck
+            // arcs relax, and the quarter-twist drive started 1.6 % below its pre-tension
+            let initial = self.frictionless_preload;
             self.contact
-                .commit(&self.st.q, &self.st.v, &self.st.frames, true);
+                .commit(&self.st.q, &self.st.v, &self.st.frames, initial);
             self.update_tensions();
             let Some(target) = pretension else { break };
             let mean = self.tensions.iter().sum::<f64>() / self.tensions.len().max(1) as f64;
@@ -670,14 +675,17 @@ impl Belt3d {
         self.contact.set_law(law);
         self.anchor = None;
         let st = solved.map_err(|e| e.to_string())?;
-        // the largest move of a node [m]
+        // the largest move of a node across the belt [m] (along its width direction before
+        // the solve)
         self.st.asm.dofs.expand(qf, &mut full1);
         let moved = (0..self.n_nodes)
             .map(|k| {
                 let i = k * NODE_DOFS;
+                let w = self.st.frames.rotation(k, &full0) * Vector3::z();
                 (Vector3::from_column_slice(&full1[i..i + 3])
                     - Vector3::from_column_slice(&full0[i..i + 3]))
-                .norm()
+                .dot(&w)
+                .abs()
             })
             .fold(0.0, f64::max);
         if moved > 0.1 * self.spec.width {
