@@ -546,9 +546,11 @@ impl Belt3d {
     /// would lock into the arcs: issue 13 item 4, session 33: with friction the arcs of the
     /// shipped drive at rest held 4.8 / 3.3 N less than the spans here and 10.2 / 6.3 N in
     /// the planar drive, so that the two drives, running, differed by 1 N in mean span
-    /// tension. If the frictionless solve fails or moves a node by more than a tenth of the
-    /// belt width (a belt that would slide across its rims without friction), the solve with
-    /// friction stands ([`Self::preload_was_frictionless`]).
+    /// tension. If the frictionless solve fails or moves a node across the belt (along its
+    /// width direction) by more than a tenth of the belt width (a belt that would slide
+    /// across its rims without friction; moves in the drive's plane, as spans sagging under
+    /// gravity take length from the arcs, do not count), the solve with friction stands
+    /// ([`Self::preload_was_frictionless`]).
     pub fn preload(
         &mut self,
         pretension: Option<f64>,
@@ -650,8 +652,8 @@ impl Belt3d {
     /// carries no load but what the friction carried in that direction; held across the
     /// belt too, against the rim, the spring kept a force in the equilibrium that was
     /// released at t = 0: 13 N on a belt of EA 5e6 N, the belt moving 0.1 mm in 10 ms at
-    /// rest, session 33 qa33). Fails if Newton does not converge or a node
-    /// moves by more than a tenth of the belt width.
+    /// rest, session 33 qa33). Fails if Newton does not converge or a node moves across
+    /// the belt by more than a tenth of the belt width.
     fn frictionless_solve(
         &mut self,
         ws: &mut crate::solver::newton::Workspace,
