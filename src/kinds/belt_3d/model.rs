@@ -167,7 +167,10 @@ pub struct Belt3d {
     /// During the pre-load's frictionless solve: node 0 is held at this position [m] by a
     /// spring of this stiffness [N/m] (without friction the belt sliding round its loop and
     /// along the pulley axes is a mechanism).
-    anchor: Option<(Vector3<f64>, f64)>,
+    /// Only along the belt's tangent and width direction there (the two directions it can
+    /// slide in): a spring holding the node against the rim or across a span would leave its
+    /// force in the equilibrium.
+    anchor: Option<(Vector3<f64>, [Vector3<f64>; 2], f64)>,
     /// Whether the static pre-load ended in frictionless equilibrium ([`Belt3d::preload`]).
     frictionless_preload: bool,
 }
@@ -543,9 +546,11 @@ impl Belt3d {
     /// would lock into the arcs: issue 13 item 4, session 33: with friction the arcs of the
     /// shipped drive at rest held 4.8 / 3.3 N less than the spans here and 10.2 / 6.3 N in
     /// the planar drive, so that the two drives, running, differed by 1 N in mean span
-    /// tension. If the frictionless solve fails or moves a node by more than a tenth of the
-    /// belt width (a belt that would slide across its rims without friction), the solve with
-    /// friction stands ([`Self::preload_was_frictionless`]).
+    /// tension. If the frictionless solve fails or moves a node across the belt (along its
+    /// width direction) by more than a tenth of the belt width (a belt that would slide
+    /// across its rims without friction; moves in the drive's plane, as spans sagging under
+    /// gravity take length from the arcs, do not count), the solve with friction stands
+    /// ([`Self::preload_was_frictionless`]).
     pub fn preload(
         &mut self,
         pretension: Option<f64>,
@@ -557,6 +562,8 @@ impl Belt3d {
         let n = self.n_free();
         let (mut qf, mut vf) = (vec![0.0; n], vec![0.0; n]);
         let mut iterations = 0;
+        // the last round's reference length and mean span tension (secant correction)
+        let mut last: Option<(f64, f64)> = None;
         self.frictionless_preload = true;
         for round in 0..5 {
             self.free_state(&mut qf, &mut vf);
@@ -579,16 +586,26 @@ impl Belt3d {
             let mut state = DynState::zeros(n, self.st.t);
             state.q.copy_from_slice(&qf);
             self.st.accept(&mut state, |_, _, _| {});
+            // histories at rest after a frictionless solve; after a solve with friction (the
+            // fallback) they keep the bristles' deflection, which that equilibrium needs (as
+            // the planar pre-load's commit): reset, the initial static solve let the stuck
+            // arcs relax, and the quarter-twist drive started 1.6 % below its pre-tension
+            let initial = self.frictionless_preload;
             self.contact
-                .commit(&self.st.q, &self.st.v, &self.st.frames, true);
+                .commit(&self.st.q, &self.st.v, &self.st.frames, initial);
             self.update_tensions();
             let Some(target) = pretension else { break };
             let mean = self.tensions.iter().sum::<f64>() / self.tensions.len().max(1) as f64;
             if (mean - target).abs() <= 1e-3 * target || round == 4 {
                 break;
             }
-            let ea = self.spec.section.ea;
-            let l = self.element_length() * (1.0 + mean / ea) / (1.0 + target / ea);
+            let l_now = self.element_length();
+            let l = crate::kinds::belt_drive::preload::secant_length(l_now, mean, last, target)
+                .unwrap_or_else(|| {
+                    let ea = self.spec.section.ea;
+                    l_now * (1.0 + mean / ea) / (1.0 + target / ea)
+                });
+            last = Some((l_now, mean));
             self.set_reference_length(l);
         }
         Ok(iterations)
@@ -630,10 +647,13 @@ impl Belt3d {
 
     /// Static solve without friction from the equilibrium with friction in `qf`: `μ = 0` on
     /// every rim and flange, node 0 held where it is by a spring of `EA/L` (`L` the loop
-    /// length) in all three directions (without friction the belt sliding round its loop, or
-    /// along flat rims, is a mechanism; at equilibrium the spring carries no load but what
-    /// the friction carried in that direction). Fails if Newton does not converge or a node
-    /// moves by more than a tenth of the belt width.
+    /// length) along the belt's tangent and width direction there (without friction the belt
+    /// sliding round its loop, or along flat rims, is a mechanism; at equilibrium the spring
+    /// carries no load but what the friction carried in that direction; held across the
+    /// belt too, against the rim, the spring kept a force in the equilibrium that was
+    /// released at t = 0: 13 N on a belt of EA 5e6 N, the belt moving 0.1 mm in 10 ms at
+    /// rest, session 33 qa33). Fails if Newton does not converge or a node moves across
+    /// the belt by more than a tenth of the belt width.
     fn frictionless_solve(
         &mut self,
         ws: &mut crate::solver::newton::Workspace,
@@ -646,19 +666,28 @@ impl Belt3d {
         let (mut full0, mut full1) = (self.st.q.clone(), self.st.q.clone());
         self.st.asm.dofs.expand(qf, &mut full0);
         let x0 = Vector3::from_column_slice(&full0[..3]);
-        self.anchor = Some((x0, self.spec.section.ea / length));
+        // node 0's tangent and width direction: the columns 1 and 3 of its frame
+        let frame = self.st.frames.rotation(0, &full0);
+        let dirs = [
+            (frame * Vector3::x()).normalize(),
+            (frame * Vector3::z()).normalize(),
+        ];
+        self.anchor = Some((x0, dirs, self.spec.section.ea / length));
         let solved = crate::solver::statics::solve(self, ws, qf, settings, 1);
         self.contact.set_law(law);
         self.anchor = None;
         let st = solved.map_err(|e| e.to_string())?;
-        // the largest move of a node [m]
+        // the largest move of a node across the belt [m] (along its width direction before
+        // the solve)
         self.st.asm.dofs.expand(qf, &mut full1);
         let moved = (0..self.n_nodes)
             .map(|k| {
                 let i = k * NODE_DOFS;
+                let w = self.st.frames.rotation(k, &full0) * Vector3::z();
                 (Vector3::from_column_slice(&full1[i..i + 3])
                     - Vector3::from_column_slice(&full0[i..i + 3]))
-                .norm()
+                .dot(&w)
+                .abs()
             })
             .fold(0.0, f64::max);
         if moved > 0.1 * self.spec.width {
@@ -893,14 +922,25 @@ impl Belt3d {
                 }
             }
         }
-        if let Some((x0, k)) = self.anchor {
-            for (i, x) in x0.iter().enumerate() {
-                fw[i] += k * (self.st.qw[i] - x);
-                if let Some((c, vals)) = jac.as_mut()
-                    && let Some(f) = self.st.asm.dofs.free_index(i)
-                {
-                    let pos = self.st.asm.pattern.position(f, f).expect("diagonal");
-                    vals[pos] += c.stiffness * k;
+        if let Some((x0, dirs, k)) = self.anchor {
+            let d = Vector3::from_column_slice(&self.st.qw[..3]) - x0;
+            for e in dirs {
+                let along = k * e.dot(&d);
+                for i in 0..3 {
+                    fw[i] += along * e[i];
+                }
+                if let Some((c, vals)) = jac.as_mut() {
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            if let (Some(a), Some(b)) = (
+                                self.st.asm.dofs.free_index(i),
+                                self.st.asm.dofs.free_index(j),
+                            ) {
+                                let pos = self.st.asm.pattern.position(a, b).expect("node block");
+                                vals[pos] += c.stiffness * k * e[i] * e[j];
+                            }
+                        }
+                    }
                 }
             }
         }

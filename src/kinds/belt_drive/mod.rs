@@ -7,7 +7,7 @@
 pub mod creep;
 mod energy;
 pub mod model;
-mod preload;
+pub(crate) mod preload;
 mod pulleys;
 pub mod scene;
 mod tensioner;

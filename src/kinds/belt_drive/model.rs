@@ -304,10 +304,12 @@ pub struct BeltDrive {
     /// pre-load, a static initialization): otherwise belt and free pulleys turning together
     /// are a mechanism.
     pub(super) held_angles: Option<Vec<f64>>,
-    /// During the frictionless static pre-load of a drive with a tensioner: the first belt
-    /// node is held at this position [m] by a spring of this stiffness [N/m] (without
-    /// friction the belt sliding round its loop is a mechanism; see `preload.rs`).
-    pub(super) belt_anchor: Option<(Vector2<f64>, f64)>,
+    /// During the frictionless static pre-loads: the first belt node is held at this
+    /// position [m] along this unit direction (the belt's tangent there) by a spring of this
+    /// stiffness [N/m] (without friction the belt sliding round its loop is a mechanism; see
+    /// `preload.rs`). Only along the tangent: the spring must not hold the node against the
+    /// rim or across a span, which would leave its force in the equilibrium.
+    pub(super) belt_anchor: Option<(Vector2<f64>, Vector2<f64>, f64)>,
     /// Whether the static pre-load was frictionless (drives with a tensioner; see
     /// `preload.rs`, which falls back to the pre-load with friction where that fails).
     pub(super) frictionless_preload: bool,
@@ -903,12 +905,17 @@ impl BeltDrive {
             }
             self.tensioner = ten;
         }
-        if let Some((anchor, k)) = self.belt_anchor {
-            f[0] += k * (self.qw[0] - anchor.x);
-            f[1] += k * (self.qw[1] - anchor.y);
+        if let Some((anchor, t, k)) = self.belt_anchor {
+            let along = k * t.dot(&(Vector2::new(self.qw[0], self.qw[1]) - anchor));
+            f[0] += along * t.x;
+            f[1] += along * t.y;
             if let Some((c, vals)) = jac.as_mut() {
-                self.asm.add_entry(0, 0, c.stiffness * k, vals);
-                self.asm.add_entry(1, 1, c.stiffness * k, vals);
+                for i in 0..2 {
+                    for j in 0..2 {
+                        self.asm
+                            .add_entry(i, j, c.stiffness * k * t[i] * t[j], vals);
+                    }
+                }
             }
         }
         // external: gravity and end loads

@@ -51,7 +51,9 @@ impl BeltDrive {
     /// pre-load 30 % above the design balance: spans 432 N, arcs down to 353 N, the arm
     /// 20 % short of its travel). Without friction the belt sliding round its loop is a
     /// mechanism; the first belt node is held at its mounted position by a spring of `EA/L`
-    /// (L the loop length). Without torques and friction nothing drives the belt round its
+    /// (L the loop length) along the belt's tangent there (only the sliding direction: a
+    /// spring holding it against the rim or across a span too kept its force in the
+    /// equilibrium, released at t = 0; session 33, qa33). Without torques and friction nothing drives the belt round its
     /// loop, so the spring only fixes that mode (softer springs, 1e-4..1e-2 EA/L, left Newton
     /// wandering along it from the mounted state of the shipped drive), and
     /// the free pulleys by a soft bearing spring (`pulleys.rs`). The commit under `mu = 0`
@@ -71,7 +73,8 @@ impl BeltDrive {
             let length = self.element().length() * self.n_el as f64;
             self.belt_anchor = Some((
                 nalgebra::Vector2::new(self.q[0], self.q[1]),
-                1.0 * self.spec.section.ea / length,
+                nalgebra::Vector2::new(self.q[2], self.q[3]).normalize(),
+                self.spec.section.ea / length,
             ));
         }
         let result = self.preload_solve(pretension);
@@ -105,6 +108,8 @@ impl BeltDrive {
         // equilibrium, which the failed solve left in place
         let rounds = if self.sag_coeff > 0.0 { 10 } else { 5 };
         let mut converged_length: Option<f64> = None;
+        // the last round's reference length and mean span tension (secant correction)
+        let mut last: Option<(f64, f64)> = None;
         let mut halvings = 0;
         let mut round = 0;
         while round < rounds {
@@ -168,8 +173,10 @@ impl BeltDrive {
                 let sag = |t: f64| self.sag_coeff / (n * t.max(0.1 * pretension).powi(2));
                 (l_now * (1.0 + mean / ea) - sag(mean) + sag(pretension)) / (1.0 + pretension / ea)
             } else {
-                l_now * (1.0 + mean / ea) / (1.0 + pretension / ea)
+                secant_length(l_now, mean, last, pretension)
+                    .unwrap_or(l_now * (1.0 + mean / ea) / (1.0 + pretension / ea))
             };
+            last = Some((l_now, mean));
             self.set_reference_length(l)?;
         }
         Ok(())
@@ -177,8 +184,8 @@ impl BeltDrive {
 
     /// Static solve without friction from the equilibrium with friction in the free
     /// coordinates `qf` (drives without a tensioner, see [`Self::preload`]): `μ = 0` on every
-    /// pulley, the first belt node held where it is by a spring of `EA/L` (the loop sliding
-    /// round the pulleys is a mechanism without friction). Fails, leaving `qf` as it was, if
+    /// pulley, the first belt node held where it is by a spring of `EA/L` along the belt's
+    /// tangent (the loop sliding round the pulleys is a mechanism without friction). Fails, leaving `qf` as it was, if
     /// Newton does not converge. Returns the Newton iterations.
     fn frictionless_solve(
         &mut self,
@@ -194,6 +201,7 @@ impl BeltDrive {
         self.asm.dofs.expand(qf, &mut full);
         self.belt_anchor = Some((
             nalgebra::Vector2::new(full[0], full[1]),
+            nalgebra::Vector2::new(full[2], full[3]).normalize(),
             self.spec.section.ea / length,
         ));
         let start = qf.to_vec();
@@ -218,4 +226,22 @@ impl BeltDrive {
     pub fn preload_was_frictionless(&self) -> bool {
         self.frictionless_preload
     }
+}
+
+/// Reference length [m] of the next pre-load round by the secant through the last two rounds
+/// (`l_now` with mean span tension `mean`, `last` the round before): `None` without a round
+/// before or where the secant does not say that a shorter belt is tauter (then the elastic
+/// correction `L (1 + T/EA)/(1 + T0/EA)`, which assumes the belt's own stretch takes up all
+/// the length change). The elastic correction alone converges slowly where the contact's
+/// penalty takes up length too: a stiff belt (EA 5e6 N, the shipped drive otherwise) was
+/// still 3 % above its pre-tension after 5 rounds, each closing only 30-50 % of the gap.
+pub(crate) fn secant_length(
+    l_now: f64,
+    mean: f64,
+    last: Option<(f64, f64)>,
+    target: f64,
+) -> Option<f64> {
+    let (l_prev, t_prev) = last?;
+    let slope = (mean - t_prev) / (l_now - l_prev);
+    (slope.is_finite() && slope < 0.0).then(|| l_now + (target - mean) / slope)
 }
