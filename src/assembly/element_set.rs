@@ -124,28 +124,6 @@ impl<const N: usize> Connectivity<N> {
             }
         }
     }
-
-    /// [`Self::add_matrix2`] (`a · ma + b · mb`) over the rows and columns `k` with
-    /// `used[k]` only (the others' entries must be zero: a block whose coordinates are not
-    /// all coupled).
-    pub fn add_matrix2_used(
-        &self,
-        e: usize,
-        (ma, a): (&SMatrix<f64, N, N>, f64),
-        (mb, b): (&SMatrix<f64, N, N>, f64),
-        used: &[bool; N],
-        vals: &mut [f64],
-    ) {
-        let pos = &self.pos[e * N * N..(e + 1) * N * N];
-        for j in (0..N).filter(|&j| used[j]) {
-            for i in (0..N).filter(|&i| used[i]) {
-                let p = pos[j * N + i];
-                if p != NONE {
-                    vals[p as usize] += a * ma[(i, j)] + b * mb[(i, j)];
-                }
-            }
-        }
-    }
 }
 
 /// Elements of one type with their connectivity. A uniform mesh may share one element among

@@ -522,17 +522,9 @@ pub fn io(s: &Belt3dScene) -> KindIo<Input, Output> {
     }
     if s.pulley.len() >= 3 {
         for i in 0..s.pulley.len() {
-            out(
-                format!("span{}.tension", i + 1),
-                Unit::N,
-                &format!(
-                    "Axial force in the middle of span {}, from pulley {} to pulley {}",
-                    i + 1,
-                    i + 1,
-                    (i + 1) % s.pulley.len() + 1
-                ),
-                Output::SpanTension(i),
-            );
+            let (name, what) =
+                crate::kinds::belt_drive::scene::span_tension_output(i, s.pulley.len());
+            out(name, Unit::N, &what, Output::SpanTension(i));
         }
     }
     for i in 0..s.pulley.len() {

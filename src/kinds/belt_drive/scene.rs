@@ -524,17 +524,8 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
     }
     if s.pulley.len() >= 3 {
         for i in 0..s.pulley.len() {
-            belt(
-                format!("span{}.tension", i + 1),
-                Unit::N,
-                &format!(
-                    "Axial force in the middle of span {}, from pulley {} to pulley {}",
-                    i + 1,
-                    i + 1,
-                    (i + 1) % s.pulley.len() + 1
-                ),
-                BeltOutput::SpanTension(i),
-            );
+            let (name, what) = span_tension_output(i, s.pulley.len());
+            belt(name, Unit::N, &what, BeltOutput::SpanTension(i));
         }
     }
     if s.tensioner.is_some() {
@@ -682,4 +673,18 @@ pub fn knobs(_s: &BeltDriveScene) -> Vec<crate::advise::Knob> {
     ];
     k.extend(solver_knobs());
     k
+}
+
+/// Name and description of the `spanN.tension` output of span `i` (0-based) of a closed belt
+/// over `n` pulleys (the planar and the 3D belt drives).
+pub fn span_tension_output(i: usize, n: usize) -> (String, String) {
+    (
+        format!("span{}.tension", i + 1),
+        format!(
+            "Axial force in the middle of span {}, from pulley {} to pulley {}",
+            i + 1,
+            i + 1,
+            (i + 1) % n + 1
+        ),
+    )
 }
