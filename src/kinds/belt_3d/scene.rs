@@ -193,13 +193,25 @@ pub fn check(s: &Belt3dScene) -> Result<(), Vec<String>> {
             ));
         }
     }
+    // consecutive centres must not lie on one axis line: the belt runs across the axes (axes
+    // along z: the centres differ in x, y; the check before session 33 demanded that of every
+    // drive, and refused a drive with its axes along x whose centres differ in z only)
     let np = s.pulley.len();
     for i in 0..np {
         let j = (i + 1) % np;
         let (a, b) = (s.pulley[i].center, s.pulley[j].center);
-        if (j > i || np > 2) && a[0] == b[0] && a[1] == b[1] {
+        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let ax = s.pulley[i].axis;
+        let n = norm3(&ax);
+        let along = if n > 0.0 {
+            (d[0] * ax[0] + d[1] * ax[1] + d[2] * ax[2]) / n
+        } else {
+            0.0
+        };
+        let across = (norm3(&d).powi(2) - along * along).max(0.0).sqrt();
+        if (j > i || np > 2) && across <= 1e-9 * norm3(&d).max(1e-300) {
             errs.push(format!(
-                "pulley[{j}].center: must differ in x, y from pulley[{i}].center (the belt is mounted in the plane z = 0)"
+                "pulley[{j}].center: must not lie on pulley[{i}]'s axis line through its centre (the belt runs across the axes; with the axes along z the centres must differ in x, y)"
             ));
         }
     }
