@@ -731,6 +731,22 @@ fn drive_ramped(
     }
 }
 
+/// The scene in `text` driven by [`drive_ramped`] with 10 N m on pulley 2 for `steps` steps
+/// of 1 ms: the outputs `names` averaged over the last `window` steps.
+fn ramped_means(text: &str, names: &[&str], steps: usize, window: usize) -> Vec<f64> {
+    let scene = flexfmu::scene::Scene::from_toml(text).unwrap();
+    let mut sim = common::simulation(&scene, &[]).unwrap();
+    let mut sums = vec![0.0; names.len()];
+    drive_ramped(&scene, &mut sim, steps, 10.0, |sim, _, i| {
+        if i >= steps - window {
+            for (s, n) in sums.iter_mut().zip(names) {
+                *s += common::output(&scene, sim, n) / window as f64;
+            }
+        }
+    });
+    sums
+}
+
 /// `contact.width_points` of the shipped scenes' tests: the scene's default, or
 /// `BELT3D_WIDTH_POINTS` to measure them with another count.
 fn width_points() -> (&'static str, Value) {
@@ -1474,21 +1490,8 @@ fn three_pulley_planar_limit() {
         "pulley2.slip",
         "pulley3.slip",
     ];
-    let run = |text: String| {
-        let scene = flexfmu::scene::Scene::from_toml(&text).unwrap();
-        let mut sim = common::simulation(&scene, &[]).unwrap();
-        let mut sums = [0.0; 7];
-        drive_ramped(&scene, &mut sim, 600, 10.0, |sim, t, _| {
-            if t > 0.5 + 1e-9 {
-                for (s, n) in sums.iter_mut().zip(names) {
-                    *s += common::output(&scene, sim, n) / 100.0;
-                }
-            }
-        });
-        sums
-    };
-    let p = run(text("belt_drive", true));
-    let s = run(text("belt_drive_3d", false));
+    let p = ramped_means(&text("belt_drive", true), &names, 600, 100);
+    let s = ramped_means(&text("belt_drive_3d", false), &names, 600, 100);
     for (i, n) in names.iter().enumerate() {
         let rel = (s[i] - p[i]) / p[i].abs();
         println!(
@@ -1530,20 +1533,10 @@ fn drive_turned_to_axes_along_x_equals_the_drive_along_z() {
         .replace("center = [0.5, 0.0, 0.0]", "center = [0.0, 0.0, -0.5]");
     assert_ne!(turned, text);
     let names = ["belt.tension_tight", "belt.tension_slack", "pulley2.omega"];
-    let run = |text: &str| {
-        let scene = flexfmu::scene::Scene::from_toml(text).unwrap();
-        let mut sim = common::simulation(&scene, &[]).unwrap();
-        let mut sums = [0.0; 3];
-        drive_ramped(&scene, &mut sim, 300, 10.0, |sim, t, _| {
-            if t > 0.2 + 1e-9 {
-                for (s, n) in sums.iter_mut().zip(names) {
-                    *s += common::output(&scene, sim, n) / 100.0;
-                }
-            }
-        });
-        sums
-    };
-    let (a, b) = (run(&text), run(&turned));
+    let (a, b) = (
+        ramped_means(&text, &names, 300, 100),
+        ramped_means(&turned, &names, 300, 100),
+    );
     for (i, n) in names.iter().enumerate() {
         let rel = (b[i] - a[i]) / a[i];
         println!(

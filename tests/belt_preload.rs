@@ -35,31 +35,39 @@ fn nodes(sim: &Simulation) -> Vec<[f64; 3]> {
     }
 }
 
+/// `belt.tension_tight` and `belt.tension_slack` [N].
+fn spans(scene: &Scene, sim: &Simulation) -> [f64; 2] {
+    [
+        common::output(scene, sim, "belt.tension_tight"),
+        common::output(scene, sim, "belt.tension_slack"),
+    ]
+}
+
+/// Span tensions at t = 0 and after 10 steps of 1 ms with the inputs at rest [N], and the
+/// largest node move over those steps [m].
+fn at_rest(scene: &Scene, sim: &mut Simulation, label: &str) -> ([f64; 2], [f64; 2], f64) {
+    let t0 = spans(scene, sim);
+    let x0 = nodes(sim);
+    for i in 0..10 {
+        sim.advance((i + 1) as f64 * 1e-3)
+            .unwrap_or_else(|e| panic!("{label}, step {i}: {}", e.message));
+    }
+    let moved = x0
+        .iter()
+        .zip(nodes(sim))
+        .map(|(a, b)| {
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+        })
+        .fold(0.0, f64::max);
+    (t0, spans(scene, sim), moved)
+}
+
 /// Span tensions at t = 0 within 0.1 % of `belt.pretension` (300 N), then 10 steps of 1 ms
 /// with the inputs at rest: the largest node move [m] and the largest change of a span
 /// tension [N].
 fn rest_check(name: &str, ea: &str) -> (f64, f64) {
     let (scene, mut sim) = stiff(name, ea);
-    let spans = |sim: &Simulation| {
-        [
-            common::output(&scene, sim, "belt.tension_tight"),
-            common::output(&scene, sim, "belt.tension_slack"),
-        ]
-    };
-    let t0 = spans(&sim);
-    let x0 = nodes(&sim);
-    for i in 0..10 {
-        sim.advance((i + 1) as f64 * 1e-3)
-            .unwrap_or_else(|e| panic!("{name}, step {i}: {}", e.message));
-    }
-    let t1 = spans(&sim);
-    let moved = x0
-        .iter()
-        .zip(nodes(&sim))
-        .map(|(a, b)| {
-            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-        })
-        .fold(0.0, f64::max);
+    let (t0, t1, moved) = at_rest(&scene, &mut sim, name);
     let change = (t1[0] - t0[0]).abs().max((t1[1] - t0[1]).abs());
     println!(
         "{name}, EA {ea} N: spans at t = 0 {t0:.3?} N, after 10 ms at rest {t1:.3?} N, largest node move {moved:.2e} m"
@@ -120,24 +128,7 @@ fn sagging_3d_belt_preloads_without_friction_and_starts_at_rest() {
         sim.model_as::<Belt3d>().unwrap().preload_was_frictionless(),
         "the pre-load fell back to friction"
     );
-    let spans = |sim: &Simulation| {
-        [
-            common::output(&scene, sim, "belt.tension_tight"),
-            common::output(&scene, sim, "belt.tension_slack"),
-        ]
-    };
-    let t0 = spans(&sim);
-    let x0 = nodes(&sim);
-    for i in 0..10 {
-        sim.advance((i + 1) as f64 * 1e-3).unwrap();
-    }
-    let moved = x0
-        .iter()
-        .zip(nodes(&sim))
-        .map(|(a, b)| {
-            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-        })
-        .fold(0.0, f64::max);
+    let (t0, _, moved) = at_rest(&scene, &mut sim, "sagging 3D drive");
     println!("sagging 3D drive: spans at t = 0 {t0:.3?} N, node move at rest {moved:.2e} m");
     let mean = 0.5 * (t0[0] + t0[1]);
     assert!(
@@ -159,10 +150,7 @@ fn sagging_3d_belt_preloads_without_friction_and_starts_at_rest() {
 fn quarter_twist_drive_starts_at_its_pretension() {
     let scene = common::scene("conveyor_twist");
     let sim = common::simulation(&scene, &[]).unwrap();
-    let t = [
-        common::output(&scene, &sim, "belt.tension_tight"),
-        common::output(&scene, &sim, "belt.tension_slack"),
-    ];
+    let t = spans(&scene, &sim);
     println!("conveyor_twist: spans at t = 0 {t:.3?} N");
     for t in t {
         assert!(

@@ -872,16 +872,22 @@ mod tests {
             let v = two(&[vel.x, vel.y, vel.z, om.x, om.y, om.z, 4.0]);
             // histories: every point 1e-5 rad back along the rim (stick) or 2 mm (slip)
             let back = if slip { 0.02 } else { 1e-5 };
-            for h in s.hist.iter_mut() {
-                *h = Pulley3dHistory {
-                    phi: phi - back,
-                    zeta,
-                    theta: theta_p - 1e-5,
-                    z: [1e-7, -2e-8],
-                    f: [0.0; 2],
-                };
-            }
+            stuck_histories(&mut s, phi - back, zeta, theta_p);
             check_jacobian(&s, &asm, &mut fr, &q, &v);
+        }
+    }
+
+    /// Every point's history anchored at rim angle `phi`, axial place `zeta` and pulley angle
+    /// `theta_p − 1e-5`, with a small bristle deflection.
+    fn stuck_histories(s: &mut SectionContactSet, phi: f64, zeta: f64, theta_p: f64) {
+        for h in s.hist.iter_mut() {
+            *h = Pulley3dHistory {
+                phi,
+                zeta,
+                theta: theta_p - 1e-5,
+                z: [1e-7, -2e-8],
+                f: [0.0; 2],
+            };
         }
     }
 
@@ -981,15 +987,7 @@ mod tests {
                 va.x, va.y, va.z, oa.x, oa.y, oa.z, vb.x, vb.y, vb.z, ob.x, ob.y, ob.z, 4.0,
             ];
             let back = if slip { 0.02 } else { 1e-5 };
-            for h in s.hist.iter_mut() {
-                *h = Pulley3dHistory {
-                    phi: phi + 0.5 * dphi - back,
-                    zeta,
-                    theta: theta_p - 1e-5,
-                    z: [1e-7, -2e-8],
-                    f: [0.0; 2],
-                };
-            }
+            stuck_histories(&mut s, phi + 0.5 * dphi - back, zeta, theta_p);
             check_jacobian(&s, &asm, &mut fr, &q, &v);
         }
     }
