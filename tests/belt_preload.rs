@@ -139,23 +139,64 @@ fn sagging_3d_belt_preloads_without_friction_and_starts_at_rest() {
 }
 
 /// The shipped quarter-twist drive (`conveyor_twist`), whose pre-load keeps friction (the
-/// belt would slide across its rims without it): its spans at t = 0 within 0.5 % of
-/// `belt.pretension` (300 N). Before: 295.1 / 295.0 N (main before qa33: 297.3 / 297.1 N):
-/// the pre-load's commit put the friction histories at rest, so that the initial static solve
-/// let the stuck arcs relax away from the corrected equilibrium (the pre-load itself ended at
-/// 300.05 N); after: 299.5 / 299.6 N. (Left open: with friction in the pre-load the free
-/// pulley is held by the statics' bearing spring against a belt torque of 0.9 N m, released
-/// at t = 0.)
+/// belt would slide across its rims without it): its mean span tension at t = 0 within 0.2 %
+/// of `belt.pretension` (300 N), and at rest: pulley 2 (free) must not start turning.
+/// Before: the statics held the free pulley by a bearing spring against a belt torque of
+/// 0.86 N m, released at t = 0: spans 299.6 / 299.5 N at t = 0, pulley 2 at −0.09 rad/s
+/// after 1 ms and up to 0.28 rad/s, the spans swinging to 308 / 287 N within 13 ms (this
+/// drive's free pulley rests with unequal spans: its twisted spans' bending and torsion put a
+/// torque on it besides r ΔT), the belt moving 0.19 mm in 10 ms. After (the pre-load's last
+/// solve releases the free pulleys, session 34): 305.6 / 293.7 N, |ω2| ≤ 2.4e-3 rad/s over
+/// 20 ms.
 #[test]
-fn quarter_twist_drive_starts_at_its_pretension() {
+fn quarter_twist_drive_starts_at_its_pretension_and_at_rest() {
     let scene = common::scene("conveyor_twist");
-    let sim = common::simulation(&scene, &[]).unwrap();
+    let mut sim = common::simulation(&scene, &[]).unwrap();
     let t = spans(&scene, &sim);
-    println!("conveyor_twist: spans at t = 0 {t:.3?} N");
-    for t in t {
-        assert!(
-            (t / 300.0 - 1.0).abs() < 5e-3,
-            "span tension {t} N at t = 0"
-        );
+    let m = sim.model_as::<Belt3d>().unwrap();
+    assert!(!m.preload_was_frictionless(), "expected the fallback");
+    let mean = 0.5 * (t[0] + t[1]);
+    let mut fastest: f64 = 0.0;
+    for i in 0..20 {
+        sim.advance((i + 1) as f64 * 1e-3)
+            .unwrap_or_else(|e| panic!("step {i}: {}", e.message));
+        let m = sim.model_as::<Belt3d>().unwrap();
+        fastest = fastest.max(m.pulley_motion(1).1.abs());
+    }
+    println!(
+        "conveyor_twist: spans at t = 0 {t:.3?} N (mean {mean:.3} N), fastest |omega2| over 20 ms at rest {fastest:.2e} rad/s"
+    );
+    assert!(
+        (mean / 300.0 - 1.0).abs() < 2e-3,
+        "mean span tension {mean} N at t = 0"
+    );
+    assert!(fastest < 0.01, "pulley 2 turned at {fastest} rad/s at rest");
+}
+
+/// A pre-load that stops before reaching its pre-tension says so in the importer's log
+/// (`Model::build_note`, logged at instantiation): the planar drive at 16 elements ends its
+/// 5 rounds at a mean span tension of 299.107 N (−0.30 %; before session 34 silently; the
+/// initial static solve then starts the run at 300.2 N); the shipped drives, which reach
+/// it, say nothing.
+#[test]
+fn preload_short_of_its_pretension_says_so() {
+    let text = std::fs::read_to_string(common::scene_path("belt_drive")).unwrap();
+    let scene = Scene::from_toml(&common::with(&text, "n_elements", "16")).unwrap();
+    let sim = common::simulation(&scene, &[]).unwrap();
+    let m = sim.model_as::<BeltDrive>().unwrap();
+    let last = &m.preload_report().span_tensions;
+    let mean = last.iter().sum::<f64>() / last.len() as f64;
+    let note = sim.model().build_note();
+    println!("belt_drive, 16 elements: pre-load's last spans {last:.3?} N, note {note:?}");
+    assert!((mean / 300.0 - 1.0).abs() > 1e-3, "mean {mean} N reached");
+    let note = note.expect("no note although the pre-tension was not reached");
+    assert!(
+        note.contains("belt.pretension = 300 N") && note.contains(&format!("{mean:.6}")),
+        "{note}"
+    );
+    for name in ["belt_drive", "belt_drive_3d", "conveyor_twist"] {
+        let scene = common::scene(name);
+        let sim = common::simulation(&scene, &[]).unwrap();
+        assert_eq!(sim.model().build_note(), None, "{name}");
     }
 }

@@ -162,6 +162,12 @@ pub struct Belt3d {
     /// Angles [rad] at which free pulleys are held by a stiff bearing spring during static
     /// solves (as the planar drive: a free pulley the belt does not touch is a mechanism).
     held: Option<Vec<f64>>,
+    /// During the pre-load's last solve after a fallback to friction: free pulleys are not
+    /// held by the bearing spring ([`Belt3d::preload`]).
+    release_free: bool,
+    /// What the pre-load could not do (the pre-tension not reached, the free pulleys not
+    /// released), for the importer's log ([`MechanicalSystem::build_note`]).
+    preload_note: Option<String>,
     /// Whether time steps start from the transport predictor ([`MechanicalSystem::predict`]).
     transport_predictor: bool,
     /// During the pre-load's frictionless solve: node 0 is held at this position [m] by a
@@ -420,6 +426,8 @@ impl Belt3d {
             energy: EnergyBook::default(),
             preload_iterations: 0,
             held: None,
+            release_free: false,
+            preload_note: None,
             transport_predictor: true,
             anchor: None,
             frictionless_preload: false,
@@ -594,9 +602,19 @@ impl Belt3d {
             self.contact
                 .commit(&self.st.q, &self.st.v, &self.st.frames, initial);
             self.update_tensions();
+            if !self.frictionless_preload {
+                iterations += self.release_free_pulleys(&mut ws, settings);
+            }
             let Some(target) = pretension else { break };
             let mean = self.tensions.iter().sum::<f64>() / self.tensions.len().max(1) as f64;
-            if (mean - target).abs() <= 1e-3 * target || round == 4 {
+            if (mean - target).abs() <= 1e-3 * target {
+                break;
+            }
+            if round == 4 {
+                self.add_preload_note(format!(
+                    "the static pre-load of the 3D belt stopped after 5 corrections of the belt's reference length with a mean span tension of {mean:.6} N against belt.pretension = {target} N ({:+.2} %)",
+                    100.0 * (mean / target - 1.0)
+                ));
                 break;
             }
             let l_now = self.element_length();
@@ -609,6 +627,58 @@ impl Belt3d {
             self.set_reference_length(l);
         }
         Ok(iterations)
+    }
+
+    /// Adds `note` to what the pre-load tells the importer's log (once).
+    fn add_preload_note(&mut self, note: String) {
+        match &mut self.preload_note {
+            Some(all) if all.contains(&note) => {}
+            Some(all) => *all = format!("{all}; {note}"),
+            None => self.preload_note = Some(note),
+        }
+    }
+
+    /// After a pre-load with friction (the fallback of [`Self::preload`]): one more static
+    /// solve with the free pulleys released from the statics' bearing spring, so that the
+    /// belt's friction holds them as it does at t = 0. Held, they carried the torque of the
+    /// stuck arcs, which was released at the start (`conveyor_twist`: 0.86 N m, pulley 2 at
+    /// −0.09 rad/s after 1 ms, the belt moving 0.19 mm in 10 ms at rest; session 33 qa33).
+    /// If that solve fails (friction cannot hold a free pulley's load torque at rest), the
+    /// held equilibrium stands and the importer's log says so. The Newton iterations.
+    fn release_free_pulleys(
+        &mut self,
+        ws: &mut crate::solver::newton::Workspace,
+        settings: &crate::solver::newton::NewtonSettings,
+    ) -> usize {
+        let any_free =
+            (self.spec.pulleys.iter()).any(|p| matches!(p.motion, Pulley3dMotion::Free { .. }));
+        if !any_free {
+            return 0;
+        }
+        let n = self.n_free();
+        let (mut qf, mut vf) = (vec![0.0; n], vec![0.0; n]);
+        self.free_state(&mut qf, &mut vf);
+        self.release_free = true;
+        let solved = crate::solver::statics::solve(self, ws, &mut qf, settings, 1);
+        self.release_free = false;
+        match solved {
+            Ok(st) => {
+                let mut state = DynState::zeros(n, self.st.t);
+                state.q.copy_from_slice(&qf);
+                self.st.accept(&mut state, |_, _, _| {});
+                self.contact
+                    .commit(&self.st.q, &self.st.v, &self.st.frames, false);
+                self.update_tensions();
+                st.newton.iterations
+            }
+            Err(e) => {
+                let note = format!(
+                    "the static pre-load of the 3D belt kept friction (the belt would slide across its rims without it) and could not release the free pulleys from their bearing spring ({e}): they start held against the belt's torque"
+                );
+                self.add_preload_note(note);
+                0
+            }
+        }
     }
 
     /// Whether the static pre-load ended in frictionless equilibrium ([`Self::preload`]).
@@ -908,12 +978,12 @@ impl Belt3d {
                 let torque = self.signals[k].torque.at(t);
                 fw[d] += inertia * self.st.aw[d] + damping * self.st.vw[d] - lambda * torque;
                 let k_hold = match &self.held {
-                    Some(held) => {
+                    Some(held) if !self.release_free => {
                         let k_hold = 1e3 * self.spec.section.ea * p.radius * p.radius;
                         fw[d] += k_hold * (self.st.qw[d] - held[k]);
                         k_hold
                     }
-                    None => 0.0,
+                    _ => 0.0,
                 };
                 if let Some((c, vals)) = jac.as_mut() {
                     let i = self.st.asm.dofs.free_index(d).expect("free pulley");
@@ -1328,6 +1398,11 @@ impl Model for Belt3d {
         };
         self.update_tensions();
         Ok(())
+    }
+
+    /// What the static pre-load could not do ([`Belt3d::preload`]).
+    fn build_note(&self) -> Option<String> {
+        self.preload_note.clone()
     }
 }
 

@@ -33,10 +33,11 @@ pub struct Input {
 pub enum Output {
     /// `pulleyN.torque`: torque of the belt on the pulley about its axis [N m].
     PulleyTorque(usize),
-    /// `pulleyN.force_x`, `_y`, `_z` (component 0, 1, 2): force of the belt on the pulley [N].
+    /// `pulleyN.force_x`, `_y`, `_z` (component 0, 1, 2 in the scene's global frame): force of
+    /// the belt on the pulley [N].
     PulleyForce(usize, usize),
-    /// `pulleyN.moment_x`, `_y` (component 0, 1): moment of the belt's contact forces about
-    /// the pulley's centre [N m].
+    /// `pulleyN.moment_x`, `_y` (component 0, 1 in the scene's global frame): moment of the
+    /// belt's contact forces about the pulley's centre [N m].
     PulleyMoment(usize, usize),
     /// `pulleyN.flange_force`: axial force of the belt's edges on the pulley's flanges, signed
     /// along its axis [N].
@@ -503,7 +504,9 @@ pub fn io(s: &Belt3dScene) -> KindIo<Input, Output> {
             out(
                 format!("pulley{n}.force_{x}"),
                 Unit::N,
-                &format!("Force the belt exerts on the pulley, {x}"),
+                &format!(
+                    "Force the belt exerts on the pulley, {x} component in the scene's (global) frame (the axial force of a pulley whose axis is along z: force_z)"
+                ),
                 Output::PulleyForce(i, c),
             );
         }
@@ -512,7 +515,7 @@ pub fn io(s: &Belt3dScene) -> KindIo<Input, Output> {
                 format!("pulley{n}.moment_{x}"),
                 Unit::NM,
                 &format!(
-                    "Moment of the belt's contact forces about the pulley's centre, {x} (bearing moment of a misaligned belt)"
+                    "Moment of the belt's contact forces about the pulley's centre, {x} component in the scene's (global) frame (bearing moment of a misaligned belt)"
                 ),
                 Output::PulleyMoment(i, c),
             );

@@ -1115,6 +1115,13 @@ impl BeltDrive {
 }
 
 impl Model for BeltDrive {
+    /// What the static pre-load could not do ([`PreloadReport::note`]).
+    ///
+    /// [`PreloadReport::note`]: super::preload::PreloadReport::note
+    fn build_note(&self) -> Option<String> {
+        self.preload.note.clone()
+    }
+
     /// The belt's centre line (four points per element) and each pulley's pitch circle with
     /// a radius marking its angle.
     fn sketch(&self) -> crate::model::Sketch {
