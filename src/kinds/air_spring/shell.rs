@@ -612,7 +612,7 @@ impl AirSpringShell {
             k_t: k_n,
             d_t: 0.0,
             mu: p.real(CONTACT_MU),
-            smoothing: 1e-5,
+            smoothing: super::model::contact_smoothing(p.real(GAS_PRESSURE_DESIGN), k_n),
             blend: 0.1,
         };
         let piston = AxisymObstacle::Piston {
