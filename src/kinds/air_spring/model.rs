@@ -222,14 +222,15 @@ struct Condensation {
     cache: Option<(u64, Option<Condensed>)>,
 }
 
-/// Depth [m] of the C¹ ramp of the level-2 contact penalty (`ContactLaw::smoothing`): the
-/// penetration at a fifth of the design gauge pressure `p_g` [Pa] (at least 0.1 bar) under the
-/// penalty `k_n` [N/m³], at most 10 µm. A contact point within the ramp has a stiffness that
-/// grows with its penetration, so that modified Newton's kept matrix goes stale as the points
-/// move; the pressed sleeve sits at about `p/k_n` (0.5 µm at 5 bar and 1e12 N/m³), which a
-/// fixed 10 µm ramp (before session 34) put every point inside. At the shipped 60 elements
-/// (2 Hz ± 10 mm sine, `bench_air_spring`): 1.67 → 1.40 Newton iterations and 0.26 → 0.19
-/// factorizations per step against the fixed 10 µm (1 µm: 1.56 and 0.23).
+/// Depth [m] of the C¹ ramp of the air spring's contact penalty, levels 1 and 2
+/// (`ContactLaw::smoothing`): the penetration at a fifth of the design gauge pressure `p_g`
+/// [Pa] (at least 0.1 bar) under the penalty `k_n` [N/m³], at most 10 µm. A contact point
+/// within the ramp has a stiffness that grows with its penetration, so that modified Newton's
+/// kept matrix goes stale as the points move; the pressed sleeve sits at about `p/k_n`
+/// (0.55 µm at 5 bar and 1e12 N/m³), which a fixed 10 µm ramp (before session 34) put every
+/// point inside (3.2 µm deep). At level 2's shipped 60 elements (2 Hz ± 10 mm sine,
+/// `bench_air_spring`): 1.67 → 1.40 Newton iterations and 0.26 → 0.19 factorizations per step
+/// against the fixed 10 µm (1 µm: 1.56 and 0.23).
 pub fn contact_smoothing(p_g: f64, k_n: f64) -> f64 {
     (0.2 * p_g.max(1e4) / k_n).min(1e-5)
 }

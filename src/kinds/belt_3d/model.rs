@@ -166,7 +166,7 @@ pub struct Belt3d {
     /// held by the bearing spring ([`Belt3d::preload`]).
     release_free: bool,
     /// What the pre-load could not do (the pre-tension not reached, the free pulleys not
-    /// released), for the importer's log ([`MechanicalSystem::build_note`]).
+    /// released), for the importer's log ([`Model::build_note`]).
     preload_note: Option<String>,
     /// Whether time steps start from the transport predictor ([`MechanicalSystem::predict`]).
     transport_predictor: bool,
