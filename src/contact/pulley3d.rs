@@ -234,8 +234,10 @@ pub struct Pulley3dContact {
     pub c: Matrix4<f64>,
 }
 
-/// The rim contact of a point: its force and torque and their derivatives added into `res`;
-/// returns whether the rim touches.
+/// The rim contact of a point: its force and torque and, with `tangent`, their derivatives
+/// added into `res`; returns whether the rim touches. Without `tangent` (a residual-only
+/// evaluation: modified Newton's kept matrix, the line search) `res.k`, `res.c` are left
+/// alone; every other output is computed by the same operations either way.
 #[allow(clippy::too_many_arguments)]
 fn rim(
     pul: &Pulley3d,
@@ -245,6 +247,7 @@ fn rim(
     theta: f64,
     omega: f64,
     hist: &Pulley3dHistory,
+    tangent: bool,
     res: &mut Pulley3dContact,
 ) -> bool {
     let a = pul.axis;
@@ -267,13 +270,6 @@ fn rim(
     if pr <= 0.0 {
         return false;
     }
-    let tt: RowVector3<f64> = t.transpose();
-    let at: RowVector3<f64> = a.transpose();
-    let et: RowVector3<f64> = e.transpose();
-    // ∂ġ/∂d = (v·t/ρ) tᵀ − R'' (v·a) aᵀ; ∂p/∂d = −(p_e' − d_n ġ s') ∇gᵀ − d_n s ∂ġ/∂d
-    let dgdot_dd = (vt / rho) * tt - (ddrz * va) * at;
-    let dp_dd = -(dpe - law.d_n * gdot * dramp) * ng.transpose() - (law.d_n * ramp) * dgdot_dd;
-    let dp_dv = -(law.d_n * ramp) * ng.transpose();
 
     // slip increment and rate in (t, a)
     let dphi = wrap_angle(pul.polar_angle(&p.r) - hist.phi);
@@ -281,73 +277,92 @@ fn rim(
     let ds = Vector2::new(rho * dphi - rz * dtheta, zeta - hist.zeta);
     let sdot = Vector2::new(vt - omega * rz, va);
     let ftr = law.k_t * (Vector2::from(hist.z) + ds) + law.d_t * sdot;
-    // rows of ∂f*/∂(d, θ) and ∂f*/∂(v, ω)
-    let mut dftr_dd = nalgebra::Matrix2x3::zeros();
-    let mut dftr_dv = nalgebra::Matrix2x3::zeros();
-    dftr_dd.set_row(
-        0,
-        &(law.k_t * (dphi * et + tt - (dtheta * drz) * at)
-            + law.d_t * (-(ve / rho) * tt - (omega * drz) * at)),
-    );
-    dftr_dd.set_row(1, &(law.k_t * at));
-    dftr_dv.set_row(0, &(law.d_t * tt));
-    dftr_dv.set_row(1, &(law.d_t * at));
-    let dftr_dth = Vector2::new(-law.k_t * rz, 0.0);
-    let dftr_dom = Vector2::new(-law.d_t * rz, 0.0);
 
     // return mapping: f = cap φ(x) f*/|f*|, x = |f*|/cap
     let cap = law.mu * pr;
     let nf = ftr.norm();
-    let (f, df, dcap) = if cap <= 0.0 {
-        (Vector2::zeros(), Matrix2::zeros(), Vector2::zeros())
-    } else if nf <= (1.0 - law.blend) * cap {
-        (ftr, Matrix2::identity(), Vector2::zeros())
+    let stick = cap > 0.0 && nf <= (1.0 - law.blend) * cap;
+    let f = if cap <= 0.0 {
+        Vector2::zeros()
+    } else if stick {
+        ftr
     } else {
         let x = nf / cap;
-        let (ph, dph) = stick_slip(x, law.blend);
-        let eh = ftr / nf;
-        let ee = eh * eh.transpose();
-        (
-            cap * ph * eh,
-            dph * ee + (ph / x) * (Matrix2::identity() - ee),
-            (ph - x * dph) * eh,
-        )
+        let (ph, _) = stick_slip(x, law.blend);
+        cap * ph * (ftr / nf)
     };
-    // ∂f = df ∂f* + dcap μ ∂p
-    let df_dd = df * dftr_dd + dcap * (law.mu * dp_dd);
-    let df_dv = df * dftr_dv + dcap * (law.mu * dp_dv);
-    let df_dth = df * dftr_dth;
-    let df_dom = df * dftr_dom;
 
     // F = w p ∇g − w f₁ t − w f₂ a; τ = ρ w f₁
     let force = (w * pr) * ng - (w * f[0]) * t - (w * f[1]) * a;
     let torque = rz * w * f[0];
-    // ∂∇g/∂d = t tᵀ/ρ − R'' a aᵀ; ∂t/∂d = −e tᵀ/ρ
-    let k_dd = w * ng * dp_dd + (w * pr) * (t * tt / rho - ddrz * a * at) - w * t * df_dd.row(0)
-        + (w * f[0] / rho) * e * tt
-        - w * a * df_dd.row(1);
-    let k_dth = -w * t * df_dth[0] - w * a * df_dth[1];
-    let c_dv = w * ng * dp_dv - w * t * df_dv.row(0) - w * a * df_dv.row(1);
-    let c_dom = -w * t * df_dom[0] - w * a * df_dom[1];
-    let tq_dd = (w * f[0] * drz) * at + (rz * w) * df_dd.row(0);
-    let tq_dv = (rz * w) * df_dv.row(0);
-    for i in 0..3 {
-        for j in 0..3 {
-            res.k[(i, j)] += k_dd[(i, j)];
-            res.c[(i, j)] += c_dv[(i, j)];
+    if tangent {
+        let tt: RowVector3<f64> = t.transpose();
+        let at: RowVector3<f64> = a.transpose();
+        let et: RowVector3<f64> = e.transpose();
+        // ∂ġ/∂d = (v·t/ρ) tᵀ − R'' (v·a) aᵀ; ∂p/∂d = −(p_e' − d_n ġ s') ∇gᵀ − d_n s ∂ġ/∂d
+        let dgdot_dd = (vt / rho) * tt - (ddrz * va) * at;
+        let dp_dd = -(dpe - law.d_n * gdot * dramp) * ng.transpose() - (law.d_n * ramp) * dgdot_dd;
+        let dp_dv = -(law.d_n * ramp) * ng.transpose();
+        // rows of ∂f*/∂(d, θ) and ∂f*/∂(v, ω)
+        let mut dftr_dd = nalgebra::Matrix2x3::zeros();
+        let mut dftr_dv = nalgebra::Matrix2x3::zeros();
+        dftr_dd.set_row(
+            0,
+            &(law.k_t * (dphi * et + tt - (dtheta * drz) * at)
+                + law.d_t * (-(ve / rho) * tt - (omega * drz) * at)),
+        );
+        dftr_dd.set_row(1, &(law.k_t * at));
+        dftr_dv.set_row(0, &(law.d_t * tt));
+        dftr_dv.set_row(1, &(law.d_t * at));
+        let dftr_dth = Vector2::new(-law.k_t * rz, 0.0);
+        let dftr_dom = Vector2::new(-law.d_t * rz, 0.0);
+        let (df, dcap) = if cap <= 0.0 {
+            (Matrix2::zeros(), Vector2::zeros())
+        } else if stick {
+            (Matrix2::identity(), Vector2::zeros())
+        } else {
+            let x = nf / cap;
+            let (ph, dph) = stick_slip(x, law.blend);
+            let eh = ftr / nf;
+            let ee = eh * eh.transpose();
+            (
+                dph * ee + (ph / x) * (Matrix2::identity() - ee),
+                (ph - x * dph) * eh,
+            )
+        };
+        // ∂f = df ∂f* + dcap μ ∂p
+        let df_dd = df * dftr_dd + dcap * (law.mu * dp_dd);
+        let df_dv = df * dftr_dv + dcap * (law.mu * dp_dv);
+        let df_dth = df * dftr_dth;
+        let df_dom = df * dftr_dom;
+        // ∂∇g/∂d = t tᵀ/ρ − R'' a aᵀ; ∂t/∂d = −e tᵀ/ρ
+        let k_dd = w * ng * dp_dd + (w * pr) * (t * tt / rho - ddrz * a * at)
+            - w * t * df_dd.row(0)
+            + (w * f[0] / rho) * e * tt
+            - w * a * df_dd.row(1);
+        let k_dth = -w * t * df_dth[0] - w * a * df_dth[1];
+        let c_dv = w * ng * dp_dv - w * t * df_dv.row(0) - w * a * df_dv.row(1);
+        let c_dom = -w * t * df_dom[0] - w * a * df_dom[1];
+        let tq_dd = (w * f[0] * drz) * at + (rz * w) * df_dd.row(0);
+        let tq_dv = (rz * w) * df_dv.row(0);
+        for i in 0..3 {
+            for j in 0..3 {
+                res.k[(i, j)] += k_dd[(i, j)];
+                res.c[(i, j)] += c_dv[(i, j)];
+            }
+            res.k[(i, 3)] += k_dth[i];
+            res.c[(i, 3)] += c_dom[i];
+            res.k[(3, i)] += tq_dd[i];
+            res.c[(3, i)] += tq_dv[i];
         }
-        res.k[(i, 3)] += k_dth[i];
-        res.c[(i, 3)] += c_dom[i];
-        res.k[(3, i)] += tq_dd[i];
-        res.c[(3, i)] += tq_dv[i];
+        res.k[(3, 3)] += rz * w * df_dth[0];
+        res.c[(3, 3)] += rz * w * df_dom[0];
     }
-    res.k[(3, 3)] += rz * w * df_dth[0];
-    res.c[(3, 3)] += rz * w * df_dom[0];
 
     res.force += force;
     res.torque += torque;
     res.pressure = pr;
-    res.slipping = cap <= 0.0 || ftr.norm() >= cap;
+    res.slipping = cap <= 0.0 || nf >= cap;
     res.z = if law.k_t > 0.0 {
         let zt = (Vector2::from(hist.z) + ds) * bristle_factor(f.norm(), nf);
         [zt[0], zt[1]]
@@ -361,13 +376,14 @@ fn rim(
     true
 }
 
-/// The flange contacts of a point (frictionless normal force along the axis) added into
-/// `res`; returns whether a flange touches.
+/// The flange contacts of a point (frictionless normal force along the axis and, with
+/// `tangent`, its derivatives) added into `res`; returns whether a flange touches.
 fn flanges(
     pul: &Pulley3d,
     law: &ContactLaw,
     w: f64,
     p: &PointMotion<3>,
+    tangent: bool,
     res: &mut Pulley3dContact,
 ) -> bool {
     if pul.flange_top <= pul.radius {
@@ -394,13 +410,15 @@ fn flanges(
         // F = −s w p_f a; ∂p_f/∂d = s (p_e' − d_n δ̇ s') aᵀ, ∂p_f/∂v = −d_n s_r s aᵀ
         res.force -= (s * w * pf) * a;
         res.flange_force -= s * w * pf;
-        let aa = a * a.transpose();
-        let kf = -w * (dpe - law.d_n * ddot * dramp) * aa;
-        let cf = (w * law.d_n * ramp) * aa;
-        for i in 0..3 {
-            for j in 0..3 {
-                res.k[(i, j)] += kf[(i, j)];
-                res.c[(i, j)] += cf[(i, j)];
+        if tangent {
+            let aa = a * a.transpose();
+            let kf = -w * (dpe - law.d_n * ddot * dramp) * aa;
+            let cf = (w * law.d_n * ramp) * aa;
+            for i in 0..3 {
+                for j in 0..3 {
+                    res.k[(i, j)] += kf[(i, j)];
+                    res.c[(i, j)] += cf[(i, j)];
+                }
             }
         }
         res.normal_energy += w * ue;
@@ -420,12 +438,14 @@ pub fn evaluate(
     omega: f64,
     hist: &Pulley3dHistory,
 ) -> Option<Pulley3dContact> {
-    evaluate_parts(pul, law, w, w, p, theta, omega, hist)
+    evaluate_parts(pul, law, w, w, p, theta, omega, hist, true)
 }
 
 /// [`evaluate`] with separate weights of the rim contact `w_rim` [m] (the belt length, or
 /// the share of the section, the point stands for) and of the flange contact `w_flange` [m]
 /// (the belt length whose edge the point is; 0: the point does not touch the flanges).
+/// Without `tangent` the derivatives `k`, `c` are not computed (left zero); the other
+/// outputs are those of the evaluation with them.
 #[allow(clippy::too_many_arguments)]
 pub fn evaluate_parts(
     pul: &Pulley3d,
@@ -436,6 +456,7 @@ pub fn evaluate_parts(
     theta: f64,
     omega: f64,
     hist: &Pulley3dHistory,
+    tangent: bool,
 ) -> Option<Pulley3dContact> {
     let mut res = Pulley3dContact {
         force: Vector3::zeros(),
@@ -452,8 +473,8 @@ pub fn evaluate_parts(
         k: Matrix4::zeros(),
         c: Matrix4::zeros(),
     };
-    let on_rim = w_rim > 0.0 && rim(pul, law, w_rim, p, theta, omega, hist, &mut res);
-    let on_flange = w_flange > 0.0 && flanges(pul, law, w_flange, p, &mut res);
+    let on_rim = w_rim > 0.0 && rim(pul, law, w_rim, p, theta, omega, hist, tangent, &mut res);
+    let on_flange = w_flange > 0.0 && flanges(pul, law, w_flange, p, tangent, &mut res);
     if !(on_rim || on_flange) {
         return None;
     }

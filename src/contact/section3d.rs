@@ -468,6 +468,7 @@ impl SectionContactSet {
                             theta,
                             omega,
                             h,
+                            jac.is_some(),
                         ) else {
                             continue;
                         };
@@ -566,6 +567,7 @@ impl SectionContactSet {
                                 x[0],
                                 v[dofs[12]],
                                 &h,
+                                false,
                             )
                         } else {
                             None
