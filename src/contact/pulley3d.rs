@@ -105,12 +105,22 @@ impl Pulley3d {
         (zeta, rho, e, t)
     }
 
-    /// Polar angle φ [rad] of the point `r` about the axis from `u1` (an `atan2`: only where
-    /// the slip needs it, after the gap test).
+    /// [`Self::frame`] and the radial vector `d_r` of the point `r`.
     #[inline]
-    fn polar_angle(&self, r: &Vector3<f64>) -> f64 {
+    fn frame_radial(&self, r: &Vector3<f64>) -> (PointFrame, Vector3<f64>) {
         let d = r - self.center;
-        let dr = d - self.axis.dot(&d) * self.axis;
+        let zeta = self.axis.dot(&d);
+        let dr = d - zeta * self.axis;
+        let rho = dr.norm();
+        let e = if rho > 0.0 { dr / rho } else { self.u1 };
+        let t = self.axis.cross(&e);
+        (PointFrame { zeta, rho, e, t }, dr)
+    }
+
+    /// Polar angle φ [rad] about the axis from `u1` of a point with radial vector `dr` (an
+    /// `atan2`: only where the slip or the history needs it, after the gap test).
+    #[inline]
+    fn polar_angle_of(&self, dr: &Vector3<f64>) -> f64 {
         let u2 = self.axis.cross(&self.u1);
         dr.dot(&u2).atan2(dr.dot(&self.u1))
     }
@@ -166,6 +176,15 @@ impl Pulley3d {
     pub fn lateral(&self, r: &Vector3<f64>) -> f64 {
         self.axis.dot(&(r - self.center))
     }
+}
+
+/// Axial position ζ, radius ρ, radial unit vector `e` and tangent `t` of a point.
+#[derive(Clone, Copy, Debug)]
+struct PointFrame {
+    zeta: f64,
+    rho: f64,
+    e: Vector3<f64>,
+    t: Vector3<f64>,
 }
 
 /// Committed history of one (belt point, 3D pulley) pair.
@@ -228,6 +247,8 @@ pub struct Pulley3dContact {
     pub normal_energy: f64,
     /// Dissipated power of the normal damping [W].
     pub dissipation: f64,
+    /// Polar angle of the point about the axis [rad] (the history's `phi`).
+    pub phi: f64,
     /// `∂(F, τ)/∂(r, θ)`.
     pub k: Matrix4<f64>,
     /// `∂(F, τ)/∂(v, ω)`.
@@ -247,11 +268,12 @@ fn rim(
     theta: f64,
     omega: f64,
     hist: &Pulley3dHistory,
+    fr: &PointFrame,
     tangent: bool,
     res: &mut Pulley3dContact,
 ) -> bool {
     let a = pul.axis;
-    let (zeta, rho, e, t) = pul.frame(&p.r);
+    let PointFrame { zeta, rho, e, t } = *fr;
     if zeta.abs() >= pul.half_width + pul.belt_half_width || rho <= 0.0 {
         return false;
     }
@@ -272,7 +294,7 @@ fn rim(
     }
 
     // slip increment and rate in (t, a)
-    let dphi = wrap_angle(pul.polar_angle(&p.r) - hist.phi);
+    let dphi = wrap_angle(res.phi - hist.phi);
     let dtheta = theta - hist.theta;
     let ds = Vector2::new(rho * dphi - rz * dtheta, zeta - hist.zeta);
     let sdot = Vector2::new(vt - omega * rz, va);
@@ -383,6 +405,7 @@ fn flanges(
     law: &ContactLaw,
     w: f64,
     p: &PointMotion<3>,
+    fr: &PointFrame,
     tangent: bool,
     res: &mut Pulley3dContact,
 ) -> bool {
@@ -390,7 +413,7 @@ fn flanges(
         return false;
     }
     let a = pul.axis;
-    let (zeta, rho, ..) = pul.frame(&p.r);
+    let (zeta, rho) = (fr.zeta, fr.rho);
     if rho >= pul.flange_top {
         return false;
     }
@@ -458,6 +481,20 @@ pub fn evaluate_parts(
     hist: &Pulley3dHistory,
     tangent: bool,
 ) -> Option<Pulley3dContact> {
+    let (fr, dr) = pul.frame_radial(&p.r);
+    // the tests of `rim` and `flanges` before anything else (most points near a pulley do
+    // not touch it)
+    let maybe_rim = w_rim > 0.0
+        && fr.zeta.abs() < pul.half_width + pul.belt_half_width
+        && fr.rho > 0.0
+        && fr.rho - pul.rim_radius(fr.zeta).0 < 0.0;
+    let maybe_flange = w_flange > 0.0
+        && pul.flange_top > pul.radius
+        && fr.rho < pul.flange_top
+        && fr.zeta.abs() + pul.belt_half_width - pul.half_width > 0.0;
+    if !(maybe_rim || maybe_flange) {
+        return None;
+    }
     let mut res = Pulley3dContact {
         force: Vector3::zeros(),
         torque: 0.0,
@@ -470,11 +507,15 @@ pub fn evaluate_parts(
         slip_increment: [0.0; 2],
         normal_energy: 0.0,
         dissipation: 0.0,
+        phi: pul.polar_angle_of(&dr),
         k: Matrix4::zeros(),
         c: Matrix4::zeros(),
     };
-    let on_rim = w_rim > 0.0 && rim(pul, law, w_rim, p, theta, omega, hist, tangent, &mut res);
-    let on_flange = w_flange > 0.0 && flanges(pul, law, w_flange, p, tangent, &mut res);
+    let on_rim = maybe_rim
+        && rim(
+            pul, law, w_rim, p, theta, omega, hist, &fr, tangent, &mut res,
+        );
+    let on_flange = maybe_flange && flanges(pul, law, w_flange, p, &fr, tangent, &mut res);
     if !(on_rim || on_flange) {
         return None;
     }
@@ -558,8 +599,10 @@ impl Obstacle<3> for Pulley3d {
         x: &[f64],
         c: Option<&Pulley3dContact>,
     ) -> Pulley3dHistory {
-        let (zeta, ..) = self.frame(&p.r);
-        let phi = self.polar_angle(&p.r);
+        let (fr, dr) = self.frame_radial(&p.r);
+        let zeta = fr.zeta;
+        // the evaluation's polar angle where there is one (the same operations)
+        let phi = c.map_or_else(|| self.polar_angle_of(&dr), |c| c.phi);
         let (z, f) = c
             .filter(|c| c.pressure > 0.0)
             .map_or(([0.0; 2], [0.0; 2]), |c| (c.z, c.friction));
