@@ -15,6 +15,7 @@
 //! `--set key=value` sets a scene parameter (integer or real), `--set3 key=value` one of the
 //! 3D scene only (`contact.points_per_element`, which the planar scene has too). `--log` prints the rejections by coordinate kind (node position, node rotation, other) and
 //! cause (Newton or error estimate). `--max-step H` sets `solver.max_step` (a reference run).
+//! The line after each row gives the same from the thread's CPU time (10 ms resolution).
 //! Element counts from the command line (default 60 120 240). Timings are of this run on this
 //! machine; compare the ratios within one run.
 //!
@@ -52,7 +53,7 @@ fn run(
     width_points: Option<i32>,
     predictor: bool,
     o: &Options,
-) -> (f64, RunStats, Option<Belt3dSummary>) {
+) -> (f64, f64, RunStats, Option<Belt3dSummary>) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml"));
     let scene = Scene::from_path(&path).unwrap();
     let vars = VariableTable::from_scene(&scene);
@@ -91,6 +92,7 @@ fn run(
     sim.log_rejections(o.log);
     let pr = o.protocol;
     let start = Instant::now();
+    let cpu0 = thread_cpu();
     let h = 1e-3;
     let mut angle = 0.0;
     let mut rejections = vec![];
@@ -108,6 +110,7 @@ fn run(
         }
     }
     let wall = start.elapsed().as_secs_f64();
+    let cpu = thread_cpu() - cpu0;
     if o.log && !rejections.is_empty() {
         // node coordinates come first (6 per node, all free: the belt is a closed loop)
         let n_node_dofs = 6 * n_el as usize;
@@ -134,7 +137,22 @@ fn run(
         omega2: m.pulley_motion(1).1,
         lateral: m.lateral(1),
     });
-    (wall, sim.stats(), summary)
+    (wall, cpu, sim.stats(), summary)
+}
+
+/// CPU time of this thread [s] (user + system, from `/proc/thread-self/stat`, clock ticks
+/// of 10 ms; NaN where it cannot be read): the speed on a loaded machine.
+fn thread_cpu() -> f64 {
+    std::fs::read_to_string("/proc/thread-self/stat")
+        .ok()
+        .and_then(|s| {
+            // fields after the command name (in parentheses): utime and stime are 14 and 15
+            let rest = &s[s.rfind(')')? + 2..];
+            let f: Vec<&str> = rest.split_whitespace().collect();
+            let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+            Some(ticks / 100.0)
+        })
+        .unwrap_or(f64::NAN)
 }
 
 /// End state of a 3D belt run (compare substep settings).
@@ -215,7 +233,7 @@ fn main() {
     };
     for n in counts {
         for &(name, width, predictor) in cases {
-            let (wall, s, summary) = run(name, n, width, predictor, &o);
+            let (wall, cpu, s, summary) = run(name, n, width, predictor, &o);
             let name = match width {
                 Some(w) => format!("{name} (width_points {w})"),
                 None => name.to_string(),
@@ -232,6 +250,11 @@ fn main() {
                 s.newton.factorizations as f64 / comm,
                 s.steps as f64 / comm,
                 1e6 * wall / (n as f64 * its as f64)
+            );
+            println!(
+                "  CPU time {cpu:.2} s: real-time factor {:.3}, us per element per iteration {:.3}",
+                t_end / cpu,
+                1e6 * cpu / (n as f64 * its as f64)
             );
             if let Some(b) = summary {
                 println!(

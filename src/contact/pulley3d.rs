@@ -105,12 +105,22 @@ impl Pulley3d {
         (zeta, rho, e, t)
     }
 
-    /// Polar angle φ [rad] of the point `r` about the axis from `u1` (an `atan2`: only where
-    /// the slip needs it, after the gap test).
+    /// [`Self::frame`] and the radial vector `d_r` of the point `r`.
     #[inline]
-    fn polar_angle(&self, r: &Vector3<f64>) -> f64 {
+    fn frame_radial(&self, r: &Vector3<f64>) -> (PointFrame, Vector3<f64>) {
         let d = r - self.center;
-        let dr = d - self.axis.dot(&d) * self.axis;
+        let zeta = self.axis.dot(&d);
+        let dr = d - zeta * self.axis;
+        let rho = dr.norm();
+        let e = if rho > 0.0 { dr / rho } else { self.u1 };
+        let t = self.axis.cross(&e);
+        (PointFrame { zeta, rho, e, t }, dr)
+    }
+
+    /// Polar angle φ [rad] about the axis from `u1` of a point with radial vector `dr` (an
+    /// `atan2`: only where the slip or the history needs it, after the gap test).
+    #[inline]
+    fn polar_angle_of(&self, dr: &Vector3<f64>) -> f64 {
         let u2 = self.axis.cross(&self.u1);
         dr.dot(&u2).atan2(dr.dot(&self.u1))
     }
@@ -166,6 +176,15 @@ impl Pulley3d {
     pub fn lateral(&self, r: &Vector3<f64>) -> f64 {
         self.axis.dot(&(r - self.center))
     }
+}
+
+/// Axial position ζ, radius ρ, radial unit vector `e` and tangent `t` of a point.
+#[derive(Clone, Copy, Debug)]
+struct PointFrame {
+    zeta: f64,
+    rho: f64,
+    e: Vector3<f64>,
+    t: Vector3<f64>,
 }
 
 /// Committed history of one (belt point, 3D pulley) pair.
@@ -228,14 +247,18 @@ pub struct Pulley3dContact {
     pub normal_energy: f64,
     /// Dissipated power of the normal damping [W].
     pub dissipation: f64,
+    /// Polar angle of the point about the axis [rad] (the history's `phi`).
+    pub phi: f64,
     /// `∂(F, τ)/∂(r, θ)`.
     pub k: Matrix4<f64>,
     /// `∂(F, τ)/∂(v, ω)`.
     pub c: Matrix4<f64>,
 }
 
-/// The rim contact of a point: its force and torque and their derivatives added into `res`;
-/// returns whether the rim touches.
+/// The rim contact of a point: its force and torque and, with `tangent`, their derivatives
+/// added into `res`; returns whether the rim touches. Without `tangent` (a residual-only
+/// evaluation: modified Newton's kept matrix, the line search) `res.k`, `res.c` are left
+/// alone; every other output is computed by the same operations either way.
 #[allow(clippy::too_many_arguments)]
 fn rim(
     pul: &Pulley3d,
@@ -245,10 +268,12 @@ fn rim(
     theta: f64,
     omega: f64,
     hist: &Pulley3dHistory,
+    fr: &PointFrame,
+    tangent: bool,
     res: &mut Pulley3dContact,
 ) -> bool {
     let a = pul.axis;
-    let (zeta, rho, e, t) = pul.frame(&p.r);
+    let PointFrame { zeta, rho, e, t } = *fr;
     if zeta.abs() >= pul.half_width + pul.belt_half_width || rho <= 0.0 {
         return false;
     }
@@ -267,87 +292,99 @@ fn rim(
     if pr <= 0.0 {
         return false;
     }
-    let tt: RowVector3<f64> = t.transpose();
-    let at: RowVector3<f64> = a.transpose();
-    let et: RowVector3<f64> = e.transpose();
-    // ∂ġ/∂d = (v·t/ρ) tᵀ − R'' (v·a) aᵀ; ∂p/∂d = −(p_e' − d_n ġ s') ∇gᵀ − d_n s ∂ġ/∂d
-    let dgdot_dd = (vt / rho) * tt - (ddrz * va) * at;
-    let dp_dd = -(dpe - law.d_n * gdot * dramp) * ng.transpose() - (law.d_n * ramp) * dgdot_dd;
-    let dp_dv = -(law.d_n * ramp) * ng.transpose();
 
     // slip increment and rate in (t, a)
-    let dphi = wrap_angle(pul.polar_angle(&p.r) - hist.phi);
+    let dphi = wrap_angle(res.phi - hist.phi);
     let dtheta = theta - hist.theta;
     let ds = Vector2::new(rho * dphi - rz * dtheta, zeta - hist.zeta);
     let sdot = Vector2::new(vt - omega * rz, va);
     let ftr = law.k_t * (Vector2::from(hist.z) + ds) + law.d_t * sdot;
-    // rows of ∂f*/∂(d, θ) and ∂f*/∂(v, ω)
-    let mut dftr_dd = nalgebra::Matrix2x3::zeros();
-    let mut dftr_dv = nalgebra::Matrix2x3::zeros();
-    dftr_dd.set_row(
-        0,
-        &(law.k_t * (dphi * et + tt - (dtheta * drz) * at)
-            + law.d_t * (-(ve / rho) * tt - (omega * drz) * at)),
-    );
-    dftr_dd.set_row(1, &(law.k_t * at));
-    dftr_dv.set_row(0, &(law.d_t * tt));
-    dftr_dv.set_row(1, &(law.d_t * at));
-    let dftr_dth = Vector2::new(-law.k_t * rz, 0.0);
-    let dftr_dom = Vector2::new(-law.d_t * rz, 0.0);
 
     // return mapping: f = cap φ(x) f*/|f*|, x = |f*|/cap
     let cap = law.mu * pr;
     let nf = ftr.norm();
-    let (f, df, dcap) = if cap <= 0.0 {
-        (Vector2::zeros(), Matrix2::zeros(), Vector2::zeros())
-    } else if nf <= (1.0 - law.blend) * cap {
-        (ftr, Matrix2::identity(), Vector2::zeros())
+    let stick = cap > 0.0 && nf <= (1.0 - law.blend) * cap;
+    let f = if cap <= 0.0 {
+        Vector2::zeros()
+    } else if stick {
+        ftr
     } else {
         let x = nf / cap;
-        let (ph, dph) = stick_slip(x, law.blend);
-        let eh = ftr / nf;
-        let ee = eh * eh.transpose();
-        (
-            cap * ph * eh,
-            dph * ee + (ph / x) * (Matrix2::identity() - ee),
-            (ph - x * dph) * eh,
-        )
+        let (ph, _) = stick_slip(x, law.blend);
+        cap * ph * (ftr / nf)
     };
-    // ∂f = df ∂f* + dcap μ ∂p
-    let df_dd = df * dftr_dd + dcap * (law.mu * dp_dd);
-    let df_dv = df * dftr_dv + dcap * (law.mu * dp_dv);
-    let df_dth = df * dftr_dth;
-    let df_dom = df * dftr_dom;
 
     // F = w p ∇g − w f₁ t − w f₂ a; τ = ρ w f₁
     let force = (w * pr) * ng - (w * f[0]) * t - (w * f[1]) * a;
     let torque = rz * w * f[0];
-    // ∂∇g/∂d = t tᵀ/ρ − R'' a aᵀ; ∂t/∂d = −e tᵀ/ρ
-    let k_dd = w * ng * dp_dd + (w * pr) * (t * tt / rho - ddrz * a * at) - w * t * df_dd.row(0)
-        + (w * f[0] / rho) * e * tt
-        - w * a * df_dd.row(1);
-    let k_dth = -w * t * df_dth[0] - w * a * df_dth[1];
-    let c_dv = w * ng * dp_dv - w * t * df_dv.row(0) - w * a * df_dv.row(1);
-    let c_dom = -w * t * df_dom[0] - w * a * df_dom[1];
-    let tq_dd = (w * f[0] * drz) * at + (rz * w) * df_dd.row(0);
-    let tq_dv = (rz * w) * df_dv.row(0);
-    for i in 0..3 {
-        for j in 0..3 {
-            res.k[(i, j)] += k_dd[(i, j)];
-            res.c[(i, j)] += c_dv[(i, j)];
+    if tangent {
+        let tt: RowVector3<f64> = t.transpose();
+        let at: RowVector3<f64> = a.transpose();
+        let et: RowVector3<f64> = e.transpose();
+        // ∂ġ/∂d = (v·t/ρ) tᵀ − R'' (v·a) aᵀ; ∂p/∂d = −(p_e' − d_n ġ s') ∇gᵀ − d_n s ∂ġ/∂d
+        let dgdot_dd = (vt / rho) * tt - (ddrz * va) * at;
+        let dp_dd = -(dpe - law.d_n * gdot * dramp) * ng.transpose() - (law.d_n * ramp) * dgdot_dd;
+        let dp_dv = -(law.d_n * ramp) * ng.transpose();
+        // rows of ∂f*/∂(d, θ) and ∂f*/∂(v, ω)
+        let mut dftr_dd = nalgebra::Matrix2x3::zeros();
+        let mut dftr_dv = nalgebra::Matrix2x3::zeros();
+        dftr_dd.set_row(
+            0,
+            &(law.k_t * (dphi * et + tt - (dtheta * drz) * at)
+                + law.d_t * (-(ve / rho) * tt - (omega * drz) * at)),
+        );
+        dftr_dd.set_row(1, &(law.k_t * at));
+        dftr_dv.set_row(0, &(law.d_t * tt));
+        dftr_dv.set_row(1, &(law.d_t * at));
+        let dftr_dth = Vector2::new(-law.k_t * rz, 0.0);
+        let dftr_dom = Vector2::new(-law.d_t * rz, 0.0);
+        let (df, dcap) = if cap <= 0.0 {
+            (Matrix2::zeros(), Vector2::zeros())
+        } else if stick {
+            (Matrix2::identity(), Vector2::zeros())
+        } else {
+            let x = nf / cap;
+            let (ph, dph) = stick_slip(x, law.blend);
+            let eh = ftr / nf;
+            let ee = eh * eh.transpose();
+            (
+                dph * ee + (ph / x) * (Matrix2::identity() - ee),
+                (ph - x * dph) * eh,
+            )
+        };
+        // ∂f = df ∂f* + dcap μ ∂p
+        let df_dd = df * dftr_dd + dcap * (law.mu * dp_dd);
+        let df_dv = df * dftr_dv + dcap * (law.mu * dp_dv);
+        let df_dth = df * dftr_dth;
+        let df_dom = df * dftr_dom;
+        // ∂∇g/∂d = t tᵀ/ρ − R'' a aᵀ; ∂t/∂d = −e tᵀ/ρ
+        let k_dd = w * ng * dp_dd + (w * pr) * (t * tt / rho - ddrz * a * at)
+            - w * t * df_dd.row(0)
+            + (w * f[0] / rho) * e * tt
+            - w * a * df_dd.row(1);
+        let k_dth = -w * t * df_dth[0] - w * a * df_dth[1];
+        let c_dv = w * ng * dp_dv - w * t * df_dv.row(0) - w * a * df_dv.row(1);
+        let c_dom = -w * t * df_dom[0] - w * a * df_dom[1];
+        let tq_dd = (w * f[0] * drz) * at + (rz * w) * df_dd.row(0);
+        let tq_dv = (rz * w) * df_dv.row(0);
+        for i in 0..3 {
+            for j in 0..3 {
+                res.k[(i, j)] += k_dd[(i, j)];
+                res.c[(i, j)] += c_dv[(i, j)];
+            }
+            res.k[(i, 3)] += k_dth[i];
+            res.c[(i, 3)] += c_dom[i];
+            res.k[(3, i)] += tq_dd[i];
+            res.c[(3, i)] += tq_dv[i];
         }
-        res.k[(i, 3)] += k_dth[i];
-        res.c[(i, 3)] += c_dom[i];
-        res.k[(3, i)] += tq_dd[i];
-        res.c[(3, i)] += tq_dv[i];
+        res.k[(3, 3)] += rz * w * df_dth[0];
+        res.c[(3, 3)] += rz * w * df_dom[0];
     }
-    res.k[(3, 3)] += rz * w * df_dth[0];
-    res.c[(3, 3)] += rz * w * df_dom[0];
 
     res.force += force;
     res.torque += torque;
     res.pressure = pr;
-    res.slipping = cap <= 0.0 || ftr.norm() >= cap;
+    res.slipping = cap <= 0.0 || nf >= cap;
     res.z = if law.k_t > 0.0 {
         let zt = (Vector2::from(hist.z) + ds) * bristle_factor(f.norm(), nf);
         [zt[0], zt[1]]
@@ -361,20 +398,22 @@ fn rim(
     true
 }
 
-/// The flange contacts of a point (frictionless normal force along the axis) added into
-/// `res`; returns whether a flange touches.
+/// The flange contacts of a point (frictionless normal force along the axis and, with
+/// `tangent`, its derivatives) added into `res`; returns whether a flange touches.
 fn flanges(
     pul: &Pulley3d,
     law: &ContactLaw,
     w: f64,
     p: &PointMotion<3>,
+    fr: &PointFrame,
+    tangent: bool,
     res: &mut Pulley3dContact,
 ) -> bool {
     if pul.flange_top <= pul.radius {
         return false;
     }
     let a = pul.axis;
-    let (zeta, rho, ..) = pul.frame(&p.r);
+    let (zeta, rho) = (fr.zeta, fr.rho);
     if rho >= pul.flange_top {
         return false;
     }
@@ -394,13 +433,15 @@ fn flanges(
         // F = −s w p_f a; ∂p_f/∂d = s (p_e' − d_n δ̇ s') aᵀ, ∂p_f/∂v = −d_n s_r s aᵀ
         res.force -= (s * w * pf) * a;
         res.flange_force -= s * w * pf;
-        let aa = a * a.transpose();
-        let kf = -w * (dpe - law.d_n * ddot * dramp) * aa;
-        let cf = (w * law.d_n * ramp) * aa;
-        for i in 0..3 {
-            for j in 0..3 {
-                res.k[(i, j)] += kf[(i, j)];
-                res.c[(i, j)] += cf[(i, j)];
+        if tangent {
+            let aa = a * a.transpose();
+            let kf = -w * (dpe - law.d_n * ddot * dramp) * aa;
+            let cf = (w * law.d_n * ramp) * aa;
+            for i in 0..3 {
+                for j in 0..3 {
+                    res.k[(i, j)] += kf[(i, j)];
+                    res.c[(i, j)] += cf[(i, j)];
+                }
             }
         }
         res.normal_energy += w * ue;
@@ -420,12 +461,14 @@ pub fn evaluate(
     omega: f64,
     hist: &Pulley3dHistory,
 ) -> Option<Pulley3dContact> {
-    evaluate_parts(pul, law, w, w, p, theta, omega, hist)
+    evaluate_parts(pul, law, w, w, p, theta, omega, hist, true)
 }
 
 /// [`evaluate`] with separate weights of the rim contact `w_rim` [m] (the belt length, or
 /// the share of the section, the point stands for) and of the flange contact `w_flange` [m]
 /// (the belt length whose edge the point is; 0: the point does not touch the flanges).
+/// Without `tangent` the derivatives `k`, `c` are not computed (left zero); the other
+/// outputs are those of the evaluation with them.
 #[allow(clippy::too_many_arguments)]
 pub fn evaluate_parts(
     pul: &Pulley3d,
@@ -436,7 +479,22 @@ pub fn evaluate_parts(
     theta: f64,
     omega: f64,
     hist: &Pulley3dHistory,
+    tangent: bool,
 ) -> Option<Pulley3dContact> {
+    let (fr, dr) = pul.frame_radial(&p.r);
+    // the tests of `rim` and `flanges` before anything else (most points near a pulley do
+    // not touch it)
+    let maybe_rim = w_rim > 0.0
+        && fr.zeta.abs() < pul.half_width + pul.belt_half_width
+        && fr.rho > 0.0
+        && fr.rho - pul.rim_radius(fr.zeta).0 < 0.0;
+    let maybe_flange = w_flange > 0.0
+        && pul.flange_top > pul.radius
+        && fr.rho < pul.flange_top
+        && fr.zeta.abs() + pul.belt_half_width - pul.half_width > 0.0;
+    if !(maybe_rim || maybe_flange) {
+        return None;
+    }
     let mut res = Pulley3dContact {
         force: Vector3::zeros(),
         torque: 0.0,
@@ -449,11 +507,15 @@ pub fn evaluate_parts(
         slip_increment: [0.0; 2],
         normal_energy: 0.0,
         dissipation: 0.0,
+        phi: pul.polar_angle_of(&dr),
         k: Matrix4::zeros(),
         c: Matrix4::zeros(),
     };
-    let on_rim = w_rim > 0.0 && rim(pul, law, w_rim, p, theta, omega, hist, &mut res);
-    let on_flange = w_flange > 0.0 && flanges(pul, law, w_flange, p, &mut res);
+    let on_rim = maybe_rim
+        && rim(
+            pul, law, w_rim, p, theta, omega, hist, &fr, tangent, &mut res,
+        );
+    let on_flange = maybe_flange && flanges(pul, law, w_flange, p, &fr, tangent, &mut res);
     if !(on_rim || on_flange) {
         return None;
     }
@@ -537,8 +599,10 @@ impl Obstacle<3> for Pulley3d {
         x: &[f64],
         c: Option<&Pulley3dContact>,
     ) -> Pulley3dHistory {
-        let (zeta, ..) = self.frame(&p.r);
-        let phi = self.polar_angle(&p.r);
+        let (fr, dr) = self.frame_radial(&p.r);
+        let zeta = fr.zeta;
+        // the evaluation's polar angle where there is one (the same operations)
+        let phi = c.map_or_else(|| self.polar_angle_of(&dr), |c| c.phi);
         let (z, f) = c
             .filter(|c| c.pressure > 0.0)
             .map_or(([0.0; 2], [0.0; 2]), |c| (c.z, c.friction));

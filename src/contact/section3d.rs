@@ -468,6 +468,7 @@ impl SectionContactSet {
                             theta,
                             omega,
                             h,
+                            jac.is_some(),
                         ) else {
                             continue;
                         };
@@ -566,6 +567,7 @@ impl SectionContactSet {
                                 x[0],
                                 v[dofs[12]],
                                 &h,
+                                false,
                             )
                         } else {
                             None
@@ -668,13 +670,14 @@ fn point_block(
             6 * n + 3,
             &((cs * (ktx * gn + ctx * hn)) * tn + cd * (ctx * gn)),
         );
-        // the moment's own rotation: δ(R_nᵀ) F = (R_nᵀ F)~ δW_n
+        // the moment's own rotation: δ(R_nᵀ) F = (R_nᵀ F)~ δW_n, with ũ f̃ = f uᵀ − (u·f) I
         let fb = kin.rot[n].transpose() * res.force;
+        let u = &kin.u[n];
         add(
             m,
             6 * n + 3,
             6 * n + 3,
-            &((cs * (skew(&kin.u[n]) * skew(&fb))) * tn),
+            &(cs * (fb * (tn.transpose() * u).transpose() - u.dot(&fb) * tn)),
         );
         g[n] = gn;
     }

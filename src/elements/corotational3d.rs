@@ -30,7 +30,9 @@
 
 use super::element::{Element, ElementState, Layout, Slot};
 use super::quadrature::gauss_legendre;
-use super::rotation::{log_so3, skew, tangent_spatial_inv, tangent_spatial_inv_t_apply};
+use super::rotation::{
+    log_so3, skew, tangent_spatial_inv, tangent_spatial_inv_t, tangent_spatial_inv_t_apply,
+};
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 
 /// Coordinates per node (position and rotation).
@@ -519,7 +521,9 @@ impl Corot3d {
                         let mut ktt = k.fixed_view_mut::<3, 3>(6 * i + 3, 6 * j + 3);
                         ktt += gt * zc[j];
                     }
-                    let blk = skew(&p.c[i]) * skew(&(n.r[i].transpose() * force));
+                    // c̃ f̃ = f cᵀ − (c·f) I
+                    let fb = n.r[i].transpose() * force;
+                    let blk = fb * p.c[i].transpose() - Matrix3::identity() * p.c[i].dot(&fb);
                     let mut view = k.fixed_view_mut::<3, 3>(6 * i + 3, 6 * i + 3);
                     view += blk;
                 }
@@ -637,8 +641,18 @@ impl Corot3d {
         ];
         let (q1, q2) = (loc.qm.x, loc.qm.y);
         let rho = q1 / q2;
-        let (v0, lam0) = tangent_spatial_inv_t_apply(&loc.theta[0], &nl[0]);
-        let (v1, lam1) = tangent_spatial_inv_t_apply(&loc.theta[1], &nl[1]);
+        // the derivatives of `T_s⁻ᵀ n` only for the tangent
+        let (v0, v1, lam) = if k.is_some() {
+            let (v0, lam0) = tangent_spatial_inv_t_apply(&loc.theta[0], &nl[0]);
+            let (v1, lam1) = tangent_spatial_inv_t_apply(&loc.theta[1], &nl[1]);
+            (v0, v1, [lam0, lam1])
+        } else {
+            (
+                tangent_spatial_inv_t(&loc.theta[0], &nl[0]),
+                tangent_spatial_inv_t(&loc.theta[1], &nl[1]),
+                [Matrix3::zeros(); 2],
+            )
+        };
         let v = [v0, v1];
         let mu = v0 + v1;
         let h = e[2] * (mu.y + mu.x * rho) - e[1] * mu.z;
@@ -745,7 +759,6 @@ impl Corot3d {
             dn[0].set_row(axis, &r0);
             dn[1].set_row(axis, &r1);
         }
-        let lam = [lam0, lam1];
         let mut dv = [M3x12::zeros(); 2];
         for i in 0..2 {
             dv[i] = lam[i] * dth[i] + tinv[i].transpose() * dn[i];
@@ -776,7 +789,9 @@ impl Corot3d {
             let mut rows = (rt * loc.rr) * (dv[i] - skew(&v[i]) * gloc) + a * dc - b0 * gloc.row(1)
                 + b1 * gloc.row(0);
             let mut blk = rows.fixed_view_mut::<3, 3>(0, 6 * i + 3);
-            blk -= rt * (skew(&e[2]) * skew(&loc.q[i])) * cq;
+            // ẽ₃ q̃ = q e₃ᵀ − (e₃·q) I
+            blk -=
+                rt * (loc.q[i] * e[2].transpose() - Matrix3::identity() * e[2].dot(&loc.q[i])) * cq;
             ks.fixed_view_mut::<3, 12>(6 * i + 3, 0).copy_from(&rows);
         }
         for j in 0..2 {

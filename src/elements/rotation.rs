@@ -143,6 +143,17 @@ pub fn tangent_spatial_inv(th: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::identity() - 0.5 * k + c * k * k
 }
 
+/// `T_s⁻ᵀ(θ) n = n + ½ θ × n + c(θ) θ × (θ × n)` (the value of
+/// [`tangent_spatial_inv_t_apply`] by the same operations, without the derivative).
+#[inline]
+pub fn tangent_spatial_inv_t(th: &Vector3<f64>, n: &Vector3<f64>) -> Vector3<f64> {
+    let t = th.norm();
+    let (c, _) = coef_c(t);
+    let txn = th.cross(n);
+    let ttn = th.cross(&txn);
+    n + 0.5 * txn + c * ttn
+}
+
 /// `T_s⁻ᵀ(θ) n = n + ½ θ × n + c(θ) θ × (θ × n)` and its derivative with respect to θ for
 /// fixed `n`: `−½ ñ + c [(θ·n) I + θ nᵀ − 2 n θᵀ] + (θ × (θ × n)) (c'(θ)/θ) θᵀ`.
 pub fn tangent_spatial_inv_t_apply(
