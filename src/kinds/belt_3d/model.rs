@@ -1866,9 +1866,14 @@ mod tests {
             .iter()
             .map(|p| p.radius)
             .fold(f64::INFINITY, f64::min);
+        // (that with the geodesic orientation alone); the orientation follows the Hermite
+        // centre line's tangent, which on a span element whose end node the mount moved in
+        // onto an arc bends with the chord by up to 6ξ(1−ξ) pen/l ≤ 1.5 pen/l (measured
+        // 2.8e-3 rad)
+        let chord_slope = 1.5 * pen / l_mount;
         let (bound_r, bound_t) = (
             pen * (1.0 + c * h / r_min),
-            1.1 * c * h * pen / (r_min * r_min),
+            1.1 * c * h * pen / (r_min * r_min) + chord_slope,
         );
         assert!(
             worst_r[0] < bound_r,
@@ -1881,11 +1886,14 @@ mod tests {
             worst_t[0]
         );
         // across a span's end the path's curvature jumps from 0 to 1/R within an element: the
-        // orientation interpolated at a constant rate is off the path's by at most l/(4R)
-        // (at half the element on the arc), the cubic by about l²/(32R) more than above
+        // orientation interpolated at a constant rate (the geodesic alone) is off the path's
+        // by up to l/(4R) (at half the element on the arc; measured 6.8e-2 rad), the Hermite
+        // tangent by up to 0.084 l/R (computed for a straight-to-arc element, any tangent
+        // point and ξ; measured 1.7e-2 rad), the cubic's position by about l²/(32R) more
+        // than above
         let (bound_r, bound_t) = (
             bound_r + l_mount * l_mount / (32.0 * r_min),
-            l_mount / (4.0 * r_min),
+            l_mount / (8.0 * r_min) + chord_slope,
         );
         assert!(
             worst_r[1] < bound_r,
