@@ -84,6 +84,9 @@ pub struct SpacePath {
     pieces: Vec<(f64, Piece)>,
     /// Total length [m].
     pub length: f64,
+    /// Length of the arc on pulley 1 [m]: [`Self::at`] measures from its end (the departure
+    /// of span 1), as the planar loop ([`crate::meshers::belt_loop::Loop::at`]) does.
+    start: f64,
 }
 
 /// One point of the path: position [m], unit tangent, unit width direction (normal to the
@@ -226,13 +229,23 @@ impl SpacePath {
         }
         Ok(Self {
             circles: circles.to_vec(),
+            start: pieces[0].0,
             pieces,
             length,
         })
     }
 
-    /// The point at arc length `s` from the arrival of the last span on pulley 1 [m].
+    /// The point at arc length `s` [m] from the departure of span 1 (pulley 1 to 2), the
+    /// start of the planar loop's arc length: a coplanar drive is mounted at the same points
+    /// by either path, so a drive turned in space (mounted by this path) has the nodes of the
+    /// drive along z (mounted in the plane), turned.
     pub fn at(&self, s: f64) -> PathPoint {
+        self.at_from_first_arc(s + self.start)
+    }
+
+    /// The point at arc length `s` [m] from the start of the arc on pulley 1 (the arrival of
+    /// the last span).
+    fn at_from_first_arc(&self, s: f64) -> PathPoint {
         let mut s = s.rem_euclid(self.length);
         for (l, piece) in &self.pieces {
             if s > *l {
@@ -265,7 +278,7 @@ impl SpacePath {
             };
         }
         // rounding at the very end of the loop: its start
-        self.at(0.0)
+        self.at_from_first_arc(0.0)
     }
 
     /// The middle points of the spans, span `i` from pulley `i+1` to the next [m].
