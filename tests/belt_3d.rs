@@ -1587,4 +1587,42 @@ fn drive_turned_in_space_equals_the_drive_along_z() {
             assert!(rel.abs() < 1e-8, "{tag}, {n}: {} against {}", b[i], a[i]);
         }
     }
+    // pulley 2 tilted and skewed: the misalignment is defined in the pulley's own plane, so
+    // two turned copies walk the same way. (Compared between the copies with axes along x and
+    // oblique, both mounted by the path in space: the drive along z is mounted by the planar
+    // loop, which puts the belt on a tilted rim at another lateral place, and its frictionless
+    // pre-load keeps that place.) Before session 34 the arriving span was projected on the xy
+    // plane: the copy with its axes along x (centres differing in z only) had no tilt or skew
+    // at all, and the oblique copy another misalignment than the one asked for (measured
+    // before the fix: its scene was refused, the span missing pulley 1's pitch circle by
+    // 1.52 mm).
+    let misaligned = |t: &str| {
+        let m = t.replace("tilt = 0.0", "tilt = 0.005\nskew = 0.003");
+        assert_ne!(m, t);
+        m
+    };
+    let names = ["belt2.lateral", "pulley2.omega", "belt.tension_tight"];
+    let along_x = Rotation3::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+    let oblique =
+        Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::new(1.0, 2.0, 3.0)), 0.9);
+    let a = ramped_means(&misaligned(&turned(along_x)), &names, 150, 50);
+    let b = ramped_means(&misaligned(&turned(oblique)), &names, 150, 50);
+    assert!(
+        a[0].abs() > 1e-4,
+        "the misaligned drive did not walk: {} m",
+        a[0]
+    );
+    for (i, n) in names.iter().enumerate() {
+        let rel = (b[i] - a[i]) / a[i];
+        println!(
+            "misaligned, {n}: axes along x {:.9e} | oblique {:.9e} | {rel:+.2e}",
+            a[i], b[i]
+        );
+        assert!(
+            rel.abs() < 1e-6,
+            "misaligned, {n}: {} against {}",
+            b[i],
+            a[i]
+        );
+    }
 }

@@ -1056,13 +1056,19 @@ impl Belt3d {
             .enumerate()
             .map(|(i, s)| {
                 let prev = centers[(i + np - 1) % np];
-                let span = Vector3::new(centers[i].x - prev.x, centers[i].y - prev.y, 0.0);
                 let axis0 = Vector3::from(s.axis).normalize();
+                // the arriving span in the pulley's own plane (normal to its axis): for a drive
+                // along z with its centres at one z the span in the xy plane; any turned copy
+                // of a drive gets the same misalignment (before session 34 the span was
+                // projected on the xy plane: a drive with its axes along x ignored tilt and
+                // skew)
+                let d = centers[i] - prev;
+                let span = d - axis0.dot(&d) * axis0;
                 let (tilt, skew) = (p.real(PULLEY_TILT[i]), p.real(PULLEY_SKEW[i]));
                 let mut axis = axis0;
                 if span.norm() > 0.0 {
                     let along = Unit::new_normalize(span);
-                    let across = Unit::new_normalize(Vector3::z().cross(&span));
+                    let across = Unit::new_normalize(axis0.cross(&span));
                     axis = Rotation3::from_axis_angle(&across, skew)
                         * Rotation3::from_axis_angle(&along, tilt)
                         * axis;

@@ -395,14 +395,14 @@ pub fn params(s: &Belt3dScene) -> Result<Vec<ParamDef>, String> {
             PULLEY_TILT[i],
             real(p.tilt),
             Some(Unit::Rad),
-            "Tilt of the pulley axis about the direction of the span arriving from the previous pulley (misalignment: in a two-pulley drive the belt walks at belt speed x tilt x (R1 + R2) / loop length)",
+            "Tilt of the pulley axis about the direction of the span arriving from the previous pulley (the line of centres projected on the pulley's plane; right-handed; misalignment: in a two-pulley drive the belt walks at belt speed x tilt x (R1 + R2) / loop length)",
             Check::Closed(-0.5, 0.5),
         ));
         out.push(ParamDef::new(
             PULLEY_SKEW[i],
             real(p.skew),
             Some(Unit::Rad),
-            "Skew of the pulley axis about the drive-plane perpendicular of the arriving span (the span enters the rim at this angle: the belt first walks at up to belt speed x skew, over a loop slower)",
+            "Skew of the pulley axis about the perpendicular of the arriving span in the pulley's plane (axis x span; a positive skew leans the axis, as given in the scene, towards the arriving span's direction; the span enters the rim at this angle: the belt first walks at up to belt speed x skew, over a loop slower)",
             Check::Closed(-0.5, 0.5),
         ));
         out.push(ParamDef::new(
