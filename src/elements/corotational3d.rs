@@ -227,6 +227,17 @@ pub fn hermite(xi: f64) -> [f64; 4] {
     ]
 }
 
+/// Derivatives `dh/dξ` of the Hermite basis [`hermite`] (same order), e.g. the tangent of a
+/// predicted centre line: `y'(ξ) = h00' x1 + h01' x2 + l0 (h10' t1 + h11' t2)`.
+pub fn hermite_d1(xi: f64) -> [f64; 4] {
+    [
+        6.0 * xi * (xi - 1.0),
+        1.0 - 4.0 * xi + 3.0 * xi * xi,
+        6.0 * xi * (1.0 - xi),
+        xi * (3.0 * xi - 2.0),
+    ]
+}
+
 /// The co-rotated frame and the local deformations of a configuration.
 #[derive(Clone, Copy, Debug)]
 pub struct Local {

@@ -105,6 +105,25 @@ fn hermite_basis() {
     }
 }
 
+/// The Hermite basis' derivatives against central differences of the basis.
+#[test]
+fn hermite_d1_matches_finite_differences() {
+    for xi in [0.0, 0.1, 0.37, 0.5, 0.8, 1.0] {
+        let g: Vec<f64> = (0..4)
+            .map(|k| fd::gradient(&[xi], |_| 1e-6, |x| hermite(x[0])[k])[0])
+            .collect();
+        let d = hermite_d1(xi);
+        for k in 0..4 {
+            assert!(
+                (d[k] - g[k]).abs() < 1e-8,
+                "xi {xi}, h{k}': {} against {}",
+                d[k],
+                g[k]
+            );
+        }
+    }
+}
+
 /// Zero strain and zero internal force in the reference configuration and under rigid
 /// motions of any size: rotation angles beyond 2π included (a rotation of 2π + 1 rad is
 /// the same matrix as 1 rad, so the element cannot tell them apart).

@@ -36,7 +36,7 @@ use crate::assembly::{Assembly, Connectivity, DofMap, ElementSet};
 use crate::contact::section3d::SECTION_BLOCK;
 use crate::contact::{ContactBook, ContactLaw, Pulley3d, SectionContactSet};
 use crate::elements::corotational3d::{
-    BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Nodes, Theory, hermite,
+    BeamSection, Corot3d, ELEMENT_DOFS, MassModel, NODE_DOFS, Nodes, Theory, hermite, hermite_d1,
 };
 use crate::elements::node_frames::NodeFrames;
 use crate::integrators::DynState;
@@ -1591,7 +1591,7 @@ impl MechanicalSystem for Belt3d {
             // tangent at ξ (see the doc above)
             let mut rp =
                 qa * UnitQuaternion::from_scaled_axis(xi * (qa.inverse() * qb).scaled_axis());
-            let dw = hermite_slopes(xi);
+            let dw = hermite_d1(xi);
             let tangent_at = dw[0] * at(a)
                 + dw[2] * at(b)
                 + lc * (dw[1] * (qa * Vector3::x()) + dw[3] * (qb * Vector3::x()));
@@ -1622,17 +1622,6 @@ impl MechanicalSystem for Belt3d {
     fn hold_for_statics(&mut self, held: bool) {
         self.held = held.then(|| self.pulley_dof.iter().map(|&d| self.st.q[d]).collect());
     }
-}
-
-/// Derivatives `dN/dξ` of the cubic Hermite shape functions [`hermite`] at `ξ` (same order:
-/// value at node a, tangent at a, value at b, tangent at b).
-fn hermite_slopes(xi: f64) -> [f64; 4] {
-    [
-        6.0 * xi * (xi - 1.0),
-        1.0 - 4.0 * xi + 3.0 * xi * xi,
-        6.0 * xi * (1.0 - xi),
-        xi * (3.0 * xi - 2.0),
-    ]
 }
 
 /// The mounted path: planar (pulley axes along z) or in space.
