@@ -773,8 +773,14 @@ impl AirSpring {
                 if step < 1e-3 {
                     self.q[1] = q1_saved;
                     self.plate = plate_saved;
+                    // the geometry's parameters of this bellows type
+                    let lower = if self.convoluted {
+                        format!("{BOTTOM_PLATE_BEAD_RADIUS}, {GIRDLE_RADIUS}")
+                    } else {
+                        format!("{PISTON_RADIUS}, {PISTON_HEIGHT}")
+                    };
                     return Err(format!(
-                        "no static equilibrium of the sleeve from height {:.4} m, gauge pressure {:.4e} Pa to {:.4} m, {:.4e} Pa (reached {:.0} % of the way: {last_err}); check the geometry ({TOP_PLATE_BEAD_RADIUS}, {PISTON_RADIUS}, {PISTON_HEIGHT}, {BELLOWS_SLEEVE_RADIUS}, {BELLOWS_SLEEVE_LENGTH}, {SPRING_DESIGN_HEIGHT}), the wall ({BELLOWS_CORD_STIFFNESS}, {BELLOWS_N_PLIES}, {BELLOWS_CORD_ANGLE}, {BELLOWS_MATRIX_STIFFNESS}, {BELLOWS_TENSION_ONLY}, {BELLOWS_DENSITY}, {BELLOWS_THICKNESS}), {CONTACT_STIFFNESS}, {MESH_N_MERIDIONAL} and {GAS_PRESSURE_DESIGN}",
+                        "no static equilibrium of the sleeve from height {:.4} m, gauge pressure {:.4e} Pa to {:.4} m, {:.4e} Pa (reached {:.0} % of the way: {last_err}); check the geometry ({TOP_PLATE_BEAD_RADIUS}, {lower}, {BELLOWS_SLEEVE_RADIUS}, {BELLOWS_SLEEVE_LENGTH}, {SPRING_DESIGN_HEIGHT}), the wall ({BELLOWS_CORD_STIFFNESS}, {BELLOWS_N_PLIES}, {BELLOWS_CORD_ANGLE}, {BELLOWS_MATRIX_STIFFNESS}, {BELLOWS_TENSION_ONLY}, {BELLOWS_DENSITY}, {BELLOWS_THICKNESS}), {CONTACT_STIFFNESS}, {MESH_N_MERIDIONAL} and {GAS_PRESSURE_DESIGN}",
                         from.0,
                         from.1,
                         to.0,
