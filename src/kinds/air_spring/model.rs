@@ -222,8 +222,8 @@ struct Condensation {
     cache: Option<(u64, Option<Condensed>)>,
 }
 
-/// Depth [m] of the C¹ ramp of the air spring's contact penalty, levels 1 and 2
-/// (`ContactLaw::smoothing`): the penetration at a fifth of the design gauge pressure `p_g`
+/// Depth [m] of the C¹ ramp of the membrane level's contact penalty (`ContactLaw::smoothing`;
+/// the shell level keeps 10 µm): the penetration at a fifth of the design gauge pressure `p_g`
 /// [Pa] (at least 0.1 bar) under the penalty `k_n` [N/m³], at most 10 µm. A contact point
 /// within the ramp has a stiffness that grows with its penetration, so that modified Newton's
 /// kept matrix goes stale as the points move; the pressed sleeve sits at about `p/k_n`
