@@ -591,17 +591,11 @@ impl Belt3d {
                     }
                 }
             }
-            let mut state = DynState::zeros(n, self.st.t);
-            state.q.copy_from_slice(&qf);
-            self.st.accept(&mut state, |_, _, _| {});
             // histories at rest after a frictionless solve; after a solve with friction (the
             // fallback) they keep the bristles' deflection, which that equilibrium needs (as
             // the planar pre-load's commit): reset, the initial static solve let the stuck
             // arcs relax, and the quarter-twist drive started 1.6 % below its pre-tension
-            let initial = self.frictionless_preload;
-            self.contact
-                .commit(&self.st.q, &self.st.v, &self.st.frames, initial);
-            self.update_tensions();
+            self.commit_static(&qf, self.frictionless_preload);
             if !self.frictionless_preload {
                 iterations += self.release_free_pulleys(&mut ws, settings);
             }
@@ -627,6 +621,17 @@ impl Belt3d {
             self.set_reference_length(l);
         }
         Ok(iterations)
+    }
+
+    /// Commits a static equilibrium of the pre-load (free coordinates `qf`, at rest): the
+    /// state, the contact histories (`initial`: at rest) and loads, the span tensions.
+    fn commit_static(&mut self, qf: &[f64], initial: bool) {
+        let mut state = DynState::zeros(qf.len(), self.st.t);
+        state.q.copy_from_slice(qf);
+        self.st.accept(&mut state, |_, _, _| {});
+        self.contact
+            .commit(&self.st.q, &self.st.v, &self.st.frames, initial);
+        self.update_tensions();
     }
 
     /// Adds `note` to what the pre-load tells the importer's log (once).
@@ -663,12 +668,7 @@ impl Belt3d {
         self.release_free = false;
         match solved {
             Ok(st) => {
-                let mut state = DynState::zeros(n, self.st.t);
-                state.q.copy_from_slice(&qf);
-                self.st.accept(&mut state, |_, _, _| {});
-                self.contact
-                    .commit(&self.st.q, &self.st.v, &self.st.frames, false);
-                self.update_tensions();
+                self.commit_static(&qf, false);
                 st.newton.iterations
             }
             Err(e) => {
