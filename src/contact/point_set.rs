@@ -371,7 +371,7 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
     /// on the obstacles ([`Self::loads`]) and the energy terms. `initial`: no contact is
     /// evaluated (histories at rest).
     pub fn commit(&mut self, q: &[f64], v: &[f64], initial: bool) -> ContactBook {
-        self.commit_with::<true>(q, v, initial)
+        self.commit_with::<true>(q, v, initial, None)
     }
 
     /// [`Self::commit`] without new histories: the loads on the obstacles and the energy
@@ -382,23 +382,33 @@ impl<O: Obstacle<D>, const D: usize, const NV: usize, const NB: usize>
     /// it skips the points out of reach and the pass that records every point's position.
     ///
     /// [`AxisymObstacle`]: super::revolution::AxisymObstacle
-    pub fn commit_loads(&mut self, q: &[f64], v: &[f64]) -> ContactBook {
-        self.commit_with::<false>(q, v, false)
+    ///
+    /// With `only = Some(k)` it evaluates obstacle `k` alone: the loads of the others are
+    /// zero and the book is obstacle `k`'s (for a model that reads no other load and whose
+    /// other obstacles book no energy: no damping, no friction).
+    pub fn commit_loads(&mut self, q: &[f64], v: &[f64], only: Option<usize>) -> ContactBook {
+        self.commit_with::<false>(q, v, false, only)
     }
 
-    /// [`Self::commit`] (`HISTORIES`) or [`Self::commit_loads`].
+    /// [`Self::commit`] (`HISTORIES`) or [`Self::commit_loads`]; `only`: obstacle `k` alone
+    /// (without histories only).
     fn commit_with<const HISTORIES: bool>(
         &mut self,
         q: &[f64],
         v: &[f64],
         initial: bool,
+        only: Option<usize>,
     ) -> ContactBook {
+        debug_assert!(!HISTORIES || only.is_none());
         let no = self.obstacles.len();
         let n_cp = self.points_per_element();
         self.loads.fill(ObstacleLoad::default());
         let mut book = ContactBook::default();
         for e in 0..self.n_elements {
             for k in 0..no {
+                if only.is_some_and(|o| o != k) {
+                    continue;
+                }
                 let near = self.near(e, k, q);
                 if !HISTORIES && !near {
                     continue;

@@ -55,6 +55,10 @@ use std::cell::{Cell, RefCell};
 /// [`AirSpring::graded_mesh`]).
 const GRADING: f64 = 4.0;
 
+/// Index of the top plate among the obstacles of the meridian (after the piston or the
+/// bottom plate).
+const PLATE_OBSTACLE: usize = 1;
+
 /// Elements, contact and pattern over one split of the coordinates into free and prescribed.
 #[derive(Clone, Debug)]
 struct Mech {
@@ -1179,7 +1183,7 @@ impl AirSpring {
         self.main
             .contact
             .subtract_element_forces(0, &w.q, &w.v, &mut rows);
-        let plate = self.main.contact.loads()[1].generalized[0];
+        let plate = self.main.contact.loads()[PLATE_OBSTACLE].generalized[0];
         let force = -(rows[1] - plate);
         self.kinetic = self.kinetic_energy(&w.q, &w.v);
         if !force.is_finite() {
@@ -1518,9 +1522,13 @@ impl Model for AirSpring {
         self.t = state.t;
         self.height = self.q[1];
         // frictionless (`contact.mu = 0`, fixed for the model's life): the obstacles read no
-        // history, so the commit books the loads only
-        let book = if self.main.contact.law().mu == 0.0 {
-            self.main.contact.commit_loads(&self.q, &self.v)
+        // history, so the commit books the loads only; without damping either, the book has
+        // no energy terms the model reads, and of the loads only the top plate's
+        // ([`AirSpring::reaction_rows`])
+        let law = self.main.contact.law();
+        let book = if law.mu == 0.0 {
+            let only = (law.d_n == 0.0).then_some(PLATE_OBSTACLE);
+            self.main.contact.commit_loads(&self.q, &self.v, only)
         } else {
             self.main.contact.commit(&self.q, &self.v, false)
         };
