@@ -771,7 +771,7 @@ class AleTransient:
             if np.max(np.abs(dx) / scales) < self.tol:
                 break
         else:
-            raise RuntimeError("transient Newton did not converge")
+            raise RuntimeError(f"transient Newton did not converge (v {self.v:.4f} m/s)")
         _, tau, det = self.residual(xu, detail=True)
         q = xu[:4 * n]
         self.qd = (q - self.q) / self.h
