@@ -53,8 +53,8 @@ Results (session 35; driver 60 rad/s; the Lagrangian figures from `cargo run --r
   soft 120) against the Lagrangian drive: span tensions within 0.08 % (-0.02 .. -0.08 %), creep
   error against Grashof -5.5 / -0.6 / +4.4 % (stiff, 4 / 10 / 20 N m; Lagrangian -6.4 / -0.8 /
   +3.4 %) and -1.7 / +2.0 / +4.0 % (soft; Lagrangian -3.5 / +1.2 / +3.1 %); torque balance
-  (T1 - T2) rho2 against load + bearing within 0.4 %. Tensions converge in N within 0.05 %
-  from 60 elements (30: +0.5 %), the creep error settles from 100 elements (30: up to +30 %,
+  (T1 - T2) rho2 against load + bearing within 0.4 %. Tensions at 60 elements within 0.15 % of
+  those at 120 (30: up to +0.65 %), the creep error settles from 100 elements (30: up to +30 %,
   60: up to 8 %); 8 contact points per element instead of 4 move it by 0.5-2 % of the creep.
 * closure: the discrete s-equation imposed (with the gauge's reaction, --closure s or s2) leaves
   a spurious drag of 0.8 N at 60 elements (torque balance +0.75 %): the point quadrature of the
@@ -65,8 +65,10 @@ Results (session 35; driver 60 rad/s; the Lagrangian figures from `cargo run --r
   backward Euler, full Newton, the belt kind's scaled test at 1e-5): steady running takes 1.00
   Newton iteration per step (the predictor is the solution) against the Lagrangian drive's 3.20
   (60 elements) / 2.23 (100) with full Newton at the same tolerance; the ramp 2.62 against 2.59 /
-  2.16. Final state against the Lagrangian drive (generalized-alpha, same N): tensions -0.03 ..
-  -0.13 %, creep error -0.8 % (100 elements; Lagrangian -0.1 %). 2 ms steps run (tensions
+  2.16; the soft belt (60 elements) 1.00 against 2.46 running, 2.07 against 2.25 in the ramp.
+  Final state against the Lagrangian drive (generalized-alpha, same N): tensions -0.03 ..
+  -0.13 %, creep error -0.8 % (stiff, 100 elements; Lagrangian -0.1 %) and +1.3 % (soft, 60;
+  Lagrangian +1.4 %). 2 ms steps run (tensions
   +0.12 %); 5 ms steps fail on the first step from rest (full Newton without damping).
 """
 
