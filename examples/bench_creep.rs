@@ -5,7 +5,8 @@
 //! [`flexfmu::kinds::belt_drive::creep`].
 //!
 //! Run: `cargo run --release --example bench_creep [variant ...]` with variants
-//! `default` (the contact law a scene gets) or `kt=<k_t/k_n>[,blend=<ε>][,dt=<d_t factor>]`.
+//! `default` (the contact law a scene gets) or `kt=<k_t/k_n>[,blend=<ε>][,dt=<d_t factor>]`; further keys: `ppe`, `h`, `n`, `kn` (factor on
+//! k_n), `w` (driver speed [rad/s]) and `bd` (bearing damping [N m s]).
 
 use flexfmu::kinds::belt_drive::creep::CreepCase;
 
@@ -58,6 +59,8 @@ fn main() {
                             "h" => case.step = x,
                             "n" => case.n_elements = x as usize,
                             "kn" => law.k_n *= x,
+                            "w" => case.omega = x,
+                            "bd" => case.bearing_damping = x,
                             _ => panic!("unknown key {k}"),
                         }
                     }
