@@ -271,6 +271,9 @@ struct Condensation {
     main_solver: Option<LinearSolver>,
     main_vals: Vec<f64>,
     full_vals: Vec<f64>,
+    /// Position in `full_vals` of every value of the main system's pattern (its free rows
+    /// and columns: the main system's `K` is gathered from the full one, not assembled again).
+    main_in_full: Vec<usize>,
     /// The plate contact's part of `K` (every coordinate free), its residual and the change of
     /// that residual along a direction (full vectors).
     plate_vals: Vec<f64>,
@@ -689,6 +692,7 @@ impl AirSpringShell {
                 main_solver: None,
                 main_vals: vec![],
                 full_vals: vec![],
+                main_in_full: vec![],
                 plate_vals: vec![],
                 fc: vec![0.0; n_full],
                 dfc: vec![0.0; n_full],
@@ -1330,6 +1334,7 @@ impl AirSpringShell {
             main_solver,
             main_vals,
             full_vals,
+            main_in_full,
             plate_vals,
             fc,
             dfc,
@@ -1366,20 +1371,27 @@ impl AirSpringShell {
             *main_vals = vec![0.0; rank_one_len(&main.asm.pattern)];
             *full_vals = vec![0.0; full.asm.pattern.nnz()];
             *plate_vals = vec![0.0; full.asm.pattern.nnz()];
+            let (mp, fp) = (&main.asm.pattern, &full.asm.pattern);
+            let to_full = main.asm.dofs.free_to_full();
+            *main_in_full = (0..mp.n())
+                .flat_map(|c| (mp.col_ptr()[c]..mp.col_ptr()[c + 1]).map(move |k| (k, c)))
+                .map(|(k, c)| fp.position(to_full[mp.row_idx()[k]], to_full[c]))
+                .collect::<Option<Vec<usize>>>()?;
         }
         let solver = main_solver.as_mut()?;
-        Self::assemble(
-            main,
-            st,
-            g,
-            p_g,
-            dp_dv,
-            f,
-            Some((coeffs, &mut main_vals[..])),
-        );
-        solver.factor(&main.asm.pattern, main_vals).ok()?;
         // every coordinate free: K over all rows and columns, and the residual of the state
         Self::assemble(full, st, g, p_g, 0.0, f, Some((coeffs, &mut full_vals[..])));
+        // the main system (free coordinates): the same element, pressure and contact blocks
+        // restricted to the free rows and columns, and the rank-one gas term
+        let nnz = main.asm.pattern.nnz();
+        for (v, &k) in main_vals.iter_mut().zip(main_in_full.iter()) {
+            *v = full_vals[k];
+        }
+        main_vals[nnz] = -coeffs.stiffness * dp_dv;
+        for (i, &fi) in main.asm.dofs.free_to_full().iter().enumerate() {
+            main_vals[nnz + 1 + i] = g[fi];
+        }
+        solver.factor(&main.asm.pattern, main_vals).ok()?;
         // the plate contact alone: its forces on the plate and their derivatives
         plate_vals.fill(0.0);
         fc.fill(0.0);
