@@ -265,7 +265,7 @@ struct Condensation {
     kt: Vec<f64>,
     dfull: Vec<f64>,
     dr: Vec<f64>,
-    /// Free shape change of one plate axis.
+    /// Free shape changes of the plate axes (`n_free × 5`, column-major).
     y: Vec<f64>,
     full: Mech,
     main_solver: Option<LinearSolver>,
@@ -687,7 +687,7 @@ impl AirSpringShell {
                 kt: vec![0.0; n_full],
                 dfull: vec![0.0; n_full],
                 dr: vec![0.0; n_full],
-                y: vec![0.0; n_free],
+                y: vec![0.0; n_free * PLATE_AXES],
                 full,
                 main_solver: None,
                 main_vals: vec![],
@@ -1422,8 +1422,9 @@ impl AirSpringShell {
             k: [[0.0; PLATE_AXES]; PLATE_AXES],
             dv: [0.0; PLATE_AXES],
         };
-        for j in 0..PLATE_AXES {
-            // T_j and the turn of the plate frame
+        // T_j (the bead ring's and the plate's motion along plate axis j), the turn of the
+        // plate frame and the direct volume change (patches and the plate cap)
+        let direction = |j: usize, t: &mut [f64]| {
             t.fill(0.0);
             let turn = if j >= 3 {
                 Some(ts * Vector3::ith(j - 3, 1.0))
@@ -1439,18 +1440,26 @@ impl AirSpringShell {
             }
             // the plate as the contact's obstacle
             t[self.ends.plate_coord + j] = 1.0;
-            // the direct volume change (patches and the plate cap)
             let mut vdir: f64 = vgrad.iter().zip(t.iter()).map(|(a, b)| a * b).sum();
             vdir += match turn {
                 Some(w) => c.dot(&w.cross(&a_out)) / 3.0,
                 None => a_out[j] / 3.0,
             };
+            (turn, vdir)
+        };
+        // ∂r_f/∂u_j = (K T_j)_f − dp/dV vdir g_f; y_j = −K_ff⁻¹ that, the five solved together
+        let n_free = dofs.n_free();
+        for (j, yj) in y.chunks_exact_mut(n_free).enumerate() {
+            let (_, vdir) = direction(j, t);
             full.asm.pattern.mul_vec(full_vals, t, kt);
-            // ∂r_f/∂u_j = (K T)_f − dp/dV vdir g_f; y = −K_ff⁻¹ that
             for (i, &fi) in dofs.free_to_full().iter().enumerate() {
-                y[i] = -(kt[fi] - dp_dv * vdir * g[fi]);
+                yj[i] = -(kt[fi] - dp_dv * vdir * g[fi]);
             }
-            solver.solve_in_place(y);
+        }
+        solver.solve_many_in_place(y);
+        for j in 0..PLATE_AXES {
+            let (turn, vdir) = direction(j, t);
+            let y = &y[j * n_free..(j + 1) * n_free];
             dfull.copy_from_slice(t);
             let mut dv = vdir;
             for (i, &fi) in dofs.free_to_full().iter().enumerate() {
