@@ -336,7 +336,21 @@ fn level1(rows: &mut Vec<Row>) {
         "| elements (around × along) | setup [s] | wall per simulated s [s] | real-time factor | Newton it./step | factorizations/step | µs per element per Newton it. | design F error (shooting) |"
     );
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
-    for (nc, nm) in [(12, 30), (16, 40), (24, 40), (32, 60)] {
+    // `BENCH_L1_MESHES=24x40,32x60` picks meshes (default the four below)
+    let meshes: Vec<(i32, i32)> = match std::env::var("BENCH_L1_MESHES") {
+        Ok(s) => s
+            .split(',')
+            .map(|m| {
+                let (a, b) = m
+                    .trim()
+                    .split_once('x')
+                    .expect("BENCH_L1_MESHES: NCxNM,...");
+                (a.parse().unwrap(), b.parse().unwrap())
+            })
+            .collect(),
+        Err(_) => vec![(12, 30), (16, 40), (24, 40), (32, 60)],
+    };
+    for (nc, nm) in meshes {
         let ov = vec![
             ("mesh.n_circumferential", Value::Integer(nc)),
             ("mesh.n_meridional", Value::Integer(nm)),

@@ -163,6 +163,13 @@ impl CordRubberWall {
     /// `(E t/2)(I₁ + 2 − 2√(I₁ + 2J))` (no eigenvalues, smooth). Reduces to
     /// [`CordRubberWall::axisym`] where the meridian and the hoop are principal.
     pub fn surface(&self, c: &[f64; 3], r: &SurfaceReference) -> SurfaceEnergy {
+        self.surface_with(c, r, true)
+    }
+
+    /// [`Self::surface`], the second derivatives only if `hessian` (else zero): a residual
+    /// without the tangent needs the energy and its gradient alone, which are the same
+    /// values either way.
+    pub fn surface_with(&self, c: &[f64; 3], r: &SurfaceReference, hessian: bool) -> SurfaceEnergy {
         let mut out = SurfaceEnergy::default();
         // matrix
         let et = self.matrix_stiffness;
@@ -177,16 +184,18 @@ impl CordRubberWall {
                 return out;
             }
             let gd = Vector3::new(c[1], c[0], -2.0 * c[2]) / r.det_g;
-            let hd = Matrix3::new(0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -2.0) / r.det_g;
             let j = d.sqrt();
             let gj = gd / (2.0 * j);
-            let hj = hd / (2.0 * j) - gd * gd.transpose() / (4.0 * j * j * j);
             let u = i1 + 2.0 * j;
             let su = u.sqrt();
             let gu = gi1 + 2.0 * gj;
             out.w += 0.5 * et * (i1 + 2.0 - 2.0 * su);
             out.grad += 0.5 * et * gi1 - et * gu / (2.0 * su);
-            out.hess -= et * (2.0 * hj / (2.0 * su) - gu * gu.transpose() / (4.0 * u * su));
+            if hessian {
+                let hd = Matrix3::new(0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -2.0) / r.det_g;
+                let hj = hd / (2.0 * j) - gd * gd.transpose() / (4.0 * j * j * j);
+                out.hess -= et * (2.0 * hj / (2.0 * su) - gu * gu.transpose() / (4.0 * u * su));
+            }
         }
         // cords
         let k = self.cord_stiffness;
@@ -209,7 +218,9 @@ impl CordRubberWall {
             let gl = form_gradient(a);
             out.w += 0.5 * kk * (lc - 1.0).powi(2);
             out.grad += 0.5 * kk * (1.0 - 1.0 / lc) * gl;
-            out.hess += kk / (4.0 * l * lc) * gl * gl.transpose();
+            if hessian {
+                out.hess += kk / (4.0 * l * lc) * gl * gl.transpose();
+            }
         }
         out
     }

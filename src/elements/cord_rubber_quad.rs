@@ -148,7 +148,7 @@ impl CordRubberQuad {
         for p in &self.points {
             let (g1, g2) = tangents(&x, &p.dn);
             let c = [g1.dot(&g1), g2.dot(&g2), g1.dot(&g2)];
-            let e = self.wall.surface(&c, &p.reference);
+            let e = self.wall.surface_with(&c, &p.reference, k.is_some());
             u += e.w * p.weight;
             if f.is_none() && k.is_none() {
                 continue;

@@ -68,6 +68,8 @@ struct RankOne {
 #[derive(Debug)]
 pub struct LinearSolver {
     backend: Backend,
+    /// Size of the system.
+    n: usize,
     rank_one: RankOne,
 }
 
@@ -92,6 +94,7 @@ impl LinearSolver {
         };
         Ok(Self {
             backend,
+            n,
             rank_one: RankOne::default(),
         })
     }
@@ -152,6 +155,34 @@ impl LinearSolver {
     }
 }
 
+impl LinearSolver {
+    /// Solves `A X = B` in place for the right-hand sides stored one after the other in `b`
+    /// (column-major `n × k`, `b.len() = k n`), each column as [`Self::solve_in_place`] solves
+    /// it; the banded backend passes over its factors once for all of them (the solve of a
+    /// wide band is bound by reading the factors).
+    pub fn solve_many_in_place(&mut self, b: &mut [f64]) {
+        let n = self.n;
+        if n == 0 {
+            return;
+        }
+        debug_assert!(b.len().is_multiple_of(n));
+        match &mut self.backend {
+            Backend::Banded(lu) => lu.solve_many_in_place(b),
+            Backend::Sparse(s) => b.chunks_exact_mut(n).for_each(|x| s.solve_in_place(x)),
+            Backend::Bordered(s) => b.chunks_exact_mut(n).for_each(|x| s.solve_in_place(x)),
+        }
+        let r = &self.rank_one;
+        if r.active {
+            for x in b.chunks_exact_mut(n) {
+                let f = r.c * dot(&r.g, x) / r.denom;
+                for (bi, yi) in x.iter_mut().zip(&r.y) {
+                    *bi -= f * yi;
+                }
+            }
+        }
+    }
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
@@ -199,6 +230,22 @@ mod tests {
             for i in 0..n {
                 y[i] += cc * g[i] * gx;
                 assert!((y[i] - rhs[i]).abs() < 1e-12, "{kind:?} residual at {i}");
+            }
+            // several right-hand sides at once: the same solutions
+            let rhs2: Vec<f64> = (0..n).map(|i| (0.7 * i as f64).cos() - 0.2).collect();
+            let mut many = [rhs.clone(), rhs2.clone()].concat();
+            s.solve_many_in_place(&mut many);
+            let mut x2 = rhs2;
+            s.solve_in_place(&mut x2);
+            for i in 0..n {
+                assert!(
+                    (many[i] - x[i]).abs() < 1e-14,
+                    "{kind:?} many, column 0 at {i}"
+                );
+                assert!(
+                    (many[n + i] - x2[i]).abs() < 1e-14,
+                    "{kind:?} many, column 1 at {i}"
+                );
             }
             // without the tail the rank-one part is off
             s.factor(&p, &vals[..p.nnz()]).unwrap();

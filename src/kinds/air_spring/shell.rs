@@ -265,12 +265,15 @@ struct Condensation {
     kt: Vec<f64>,
     dfull: Vec<f64>,
     dr: Vec<f64>,
-    /// Free shape change of one plate axis.
+    /// Free shape changes of the plate axes (`n_free × 5`, column-major).
     y: Vec<f64>,
     full: Mech,
     main_solver: Option<LinearSolver>,
     main_vals: Vec<f64>,
     full_vals: Vec<f64>,
+    /// Position in `full_vals` of every value of the main system's pattern (its free rows
+    /// and columns: the main system's `K` is gathered from the full one, not assembled again).
+    main_in_full: Vec<usize>,
     /// The plate contact's part of `K` (every coordinate free), its residual and the change of
     /// that residual along a direction (full vectors).
     plate_vals: Vec<f64>,
@@ -684,11 +687,12 @@ impl AirSpringShell {
                 kt: vec![0.0; n_full],
                 dfull: vec![0.0; n_full],
                 dr: vec![0.0; n_full],
-                y: vec![0.0; n_free],
+                y: vec![0.0; n_free * PLATE_AXES],
                 full,
                 main_solver: None,
                 main_vals: vec![],
                 full_vals: vec![],
+                main_in_full: vec![],
                 plate_vals: vec![],
                 fc: vec![0.0; n_full],
                 dfc: vec![0.0; n_full],
@@ -1330,6 +1334,7 @@ impl AirSpringShell {
             main_solver,
             main_vals,
             full_vals,
+            main_in_full,
             plate_vals,
             fc,
             dfc,
@@ -1366,20 +1371,27 @@ impl AirSpringShell {
             *main_vals = vec![0.0; rank_one_len(&main.asm.pattern)];
             *full_vals = vec![0.0; full.asm.pattern.nnz()];
             *plate_vals = vec![0.0; full.asm.pattern.nnz()];
+            let (mp, fp) = (&main.asm.pattern, &full.asm.pattern);
+            let to_full = main.asm.dofs.free_to_full();
+            *main_in_full = (0..mp.n())
+                .flat_map(|c| (mp.col_ptr()[c]..mp.col_ptr()[c + 1]).map(move |k| (k, c)))
+                .map(|(k, c)| fp.position(to_full[mp.row_idx()[k]], to_full[c]))
+                .collect::<Option<Vec<usize>>>()?;
         }
         let solver = main_solver.as_mut()?;
-        Self::assemble(
-            main,
-            st,
-            g,
-            p_g,
-            dp_dv,
-            f,
-            Some((coeffs, &mut main_vals[..])),
-        );
-        solver.factor(&main.asm.pattern, main_vals).ok()?;
         // every coordinate free: K over all rows and columns, and the residual of the state
         Self::assemble(full, st, g, p_g, 0.0, f, Some((coeffs, &mut full_vals[..])));
+        // the main system (free coordinates): the same element, pressure and contact blocks
+        // restricted to the free rows and columns, and the rank-one gas term
+        let nnz = main.asm.pattern.nnz();
+        for (v, &k) in main_vals.iter_mut().zip(main_in_full.iter()) {
+            *v = full_vals[k];
+        }
+        main_vals[nnz] = -coeffs.stiffness * dp_dv;
+        for (i, &fi) in main.asm.dofs.free_to_full().iter().enumerate() {
+            main_vals[nnz + 1 + i] = g[fi];
+        }
+        solver.factor(&main.asm.pattern, main_vals).ok()?;
         // the plate contact alone: its forces on the plate and their derivatives
         plate_vals.fill(0.0);
         fc.fill(0.0);
@@ -1410,8 +1422,9 @@ impl AirSpringShell {
             k: [[0.0; PLATE_AXES]; PLATE_AXES],
             dv: [0.0; PLATE_AXES],
         };
-        for j in 0..PLATE_AXES {
-            // T_j and the turn of the plate frame
+        // T_j (the bead ring's and the plate's motion along plate axis j), the turn of the
+        // plate frame and the direct volume change (patches and the plate cap)
+        let direction = |j: usize, t: &mut [f64]| {
             t.fill(0.0);
             let turn = if j >= 3 {
                 Some(ts * Vector3::ith(j - 3, 1.0))
@@ -1427,18 +1440,26 @@ impl AirSpringShell {
             }
             // the plate as the contact's obstacle
             t[self.ends.plate_coord + j] = 1.0;
-            // the direct volume change (patches and the plate cap)
             let mut vdir: f64 = vgrad.iter().zip(t.iter()).map(|(a, b)| a * b).sum();
             vdir += match turn {
                 Some(w) => c.dot(&w.cross(&a_out)) / 3.0,
                 None => a_out[j] / 3.0,
             };
+            (turn, vdir)
+        };
+        // ∂r_f/∂u_j = (K T_j)_f − dp/dV vdir g_f; y_j = −K_ff⁻¹ that, the five solved together
+        let n_free = dofs.n_free();
+        for (j, yj) in y.chunks_exact_mut(n_free).enumerate() {
+            let (_, vdir) = direction(j, t);
             full.asm.pattern.mul_vec(full_vals, t, kt);
-            // ∂r_f/∂u_j = (K T)_f − dp/dV vdir g_f; y = −K_ff⁻¹ that
             for (i, &fi) in dofs.free_to_full().iter().enumerate() {
-                y[i] = -(kt[fi] - dp_dv * vdir * g[fi]);
+                yj[i] = -(kt[fi] - dp_dv * vdir * g[fi]);
             }
-            solver.solve_in_place(y);
+        }
+        solver.solve_many_in_place(y);
+        for j in 0..PLATE_AXES {
+            let (turn, vdir) = direction(j, t);
+            let y = &y[j * n_free..(j + 1) * n_free];
             dfull.copy_from_slice(t);
             let mut dv = vdir;
             for (i, &fi) in dofs.free_to_full().iter().enumerate() {
