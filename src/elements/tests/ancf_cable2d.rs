@@ -594,3 +594,74 @@ fn convective_damping_tangent_matches_finite_differences() {
         );
     }
 }
+
+/// Round a closed loop the boundary terms cancel (the premise of the ALE belt's band matrices):
+/// on a ring of 12 elements wrapping an ellipse (C¹ at the nodes), the assembled `G` is skew
+/// and the assembled `−H q` equals the assembled `ρA ∫ Sᵀ r'' dx` (5-point Gauss, exact); on
+/// one element alone neither holds.
+#[test]
+fn ale_band_boundary_terms_cancel_round_a_closed_loop() {
+    let (n, rho) = (12, 0.2);
+    let (a, b) = (0.4, 0.25);
+    let l = 0.19;
+    let band = ale_band(l, rho);
+    // node k at angle 2πk/n, slope the ellipse's tangent scaled to the element
+    let node = |k: usize| {
+        let t = std::f64::consts::TAU * (k % n) as f64 / n as f64;
+        let scale = n as f64 * l / std::f64::consts::TAU;
+        [
+            a * t.cos(),
+            b * t.sin(),
+            -a * t.sin() / scale,
+            b * t.cos() / scale,
+        ]
+    };
+    let dim = 4 * n;
+    let (mut g, mut hq, mut direct) = (
+        nalgebra::DMatrix::<f64>::zeros(dim, dim),
+        nalgebra::DVector::<f64>::zeros(dim),
+        nalgebra::DVector::<f64>::zeros(dim),
+    );
+    for e in 0..n {
+        let (p0, p1) = (node(e), node(e + 1));
+        let q =
+            ElemVec::from_column_slice(&[p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3]]);
+        let dofs: Vec<usize> = (0..8).map(|i| (4 * e + i) % dim).collect();
+        let hqe = band.h * q;
+        let mut de = ElemVec::zeros();
+        for &(p, w) in crate::elements::quadrature::gauss_legendre(5) {
+            let x = 0.5 * (p + 1.0) * l;
+            let (s, rpp) = (shape_functions(l, x), field(&shape_d2(l, x), &q));
+            for k in 0..4 {
+                de[2 * k] += rho * w * 0.5 * l * s[k] * rpp.x;
+                de[2 * k + 1] += rho * w * 0.5 * l * s[k] * rpp.y;
+            }
+        }
+        if e == 0 {
+            assert!(
+                (hqe + de).norm() > 1e-3 * de.norm(),
+                "one element: by parts needs its ends"
+            );
+        }
+        for i in 0..8 {
+            hq[dofs[i]] -= hqe[i];
+            direct[dofs[i]] += de[i];
+            for j in 0..8 {
+                g[(dofs[i], dofs[j])] += band.g[(i, j)];
+            }
+        }
+    }
+    let skew = &g + g.transpose();
+    assert!(
+        skew.norm() <= 1e-15 * g.norm().max(1.0),
+        "G + Gᵀ = {}",
+        skew.norm()
+    );
+    assert!((band.g + band.g.transpose()).norm() > 0.1 * rho);
+    assert!(
+        (&hq - &direct).norm() <= 1e-12 * direct.norm(),
+        "−H q {} vs ∫ Sᵀ r'' {}",
+        hq.norm(),
+        direct.norm()
+    );
+}
