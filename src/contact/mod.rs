@@ -2,8 +2,10 @@
 //! implicit integration. [`obstacle`]: what a point can touch (the pulley circle, the 3D pulley of [`pulley3d`], surfaces of revolution, the
 //! tilting plate of [`plate3d`]);
 //! [`point_set`]: the points of a body, their history, the evaluation loop and the scatter
-//! into the assembly; [`circle_friction`]: the belt–pulley kernel.
+//! into the assembly; [`circle_friction`]: the belt–pulley kernel; [`ale_transport`]: the
+//! friction history of contact points fixed in the mesh of an axially moving belt.
 
+pub mod ale_transport;
 pub mod arm_pulley;
 pub mod circle_friction;
 pub mod obstacle;

@@ -597,6 +597,207 @@ impl AncfCable2d {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Axially moving (ALE) terms
+// ---------------------------------------------------------------------------------------------
+//
+// Pechstein & Gerstmayr, "A Lagrange-Eulerian formulation of an axially moving beam based on
+// the absolute nodal coordinate formulation", Multibody Syst. Dyn. 30 (2013) 343-358 (design
+// note "ale", prototype `scripts/ale_prototype.py`): the mesh coordinate `x` is the reference
+// arc length shifted by the belt travel `s(t)` (the material point `X` sits at `x = X + s`,
+// `v = ṡ`), `r(x, t) = S(x) q(t)`. Material velocity `S q̇ + v r'`, material acceleration
+// `S q̈ + v̇ r' + 2 v S' q̇ + v² r''`, material strain rate `ε̇ + v ε'`.
+
+/// The constant band matrices of the axially moving cable, for elements of length `l`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AleBand {
+    /// Transport matrix `G = ρA ∫ Sᵀ S' dx` [kg/m · m] (8×8): `G q` is `ρA ∫ Sᵀ r' dx`. Not
+    /// symmetric: `G + Gᵀ = ρA [Sᵀ S]₀ᴸ`, which cancels between neighbours round a closed
+    /// loop (the assembled `G` is skew).
+    pub g: ElemMat,
+    /// Convective stiffness `H = ρA ∫ S'ᵀ S' dx` [kg/m] (8×8, symmetric): the centripetal term
+    /// `ρA ∫ Sᵀ r'' dx v²` integrated by parts, `−v² H q` (the boundary terms `[Sᵀ r']₀ᴸ`
+    /// cancel between neighbours of a C¹ field round a closed loop).
+    pub h: ElemMat,
+}
+
+/// [`AleBand`] of elements of length `l` [m] and mass per length `rho_a` [kg/m], integrated
+/// with 4 Gauss points (exact: the integrands are polynomials of degree 5 and 4).
+pub fn ale_band(l: f64, rho_a: f64) -> AleBand {
+    let (mut g4, mut h4) = (
+        nalgebra::Matrix4::<f64>::zeros(),
+        nalgebra::Matrix4::zeros(),
+    );
+    for &(p, w) in gauss_legendre(4) {
+        let x = 0.5 * (p + 1.0) * l;
+        let s = nalgebra::Vector4::from(shape_functions(l, x));
+        let d = nalgebra::Vector4::from(shape_d1(l, x));
+        let wt = rho_a * w * 0.5 * l;
+        g4 += wt * s * d.transpose();
+        h4 += wt * d * d.transpose();
+    }
+    let (mut g, mut h) = (ElemMat::zeros(), ElemMat::zeros());
+    for a in 0..4 {
+        for b in 0..4 {
+            for i in 0..2 {
+                g[(2 * a + i, 2 * b + i)] = g4[(a, b)];
+                h[(2 * a + i, 2 * b + i)] = h4[(a, b)];
+            }
+        }
+    }
+    AleBand { g, h }
+}
+
+/// Belt travel rates of the axially moving cable: `v = ṡ` [m/s of reference length] and its
+/// rate `v̇` [m/s²].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AleRates {
+    /// Belt speed `v` [m/s] (reference length per second).
+    pub v: f64,
+    /// Belt acceleration `v̇` [m/s²].
+    pub v_dot: f64,
+}
+
+/// Partial derivatives of the ALE inertia force of one element, written by
+/// [`ale_inertia_into`]; the mass part `∂f/∂q̈ = M` is the element's constant mass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AleInertiaTangent {
+    /// `∂f/∂q = v̇ G − v² H` [N/m].
+    pub k: ElemMat,
+    /// `∂f/∂q̇ = 2 v G` [N s/m].
+    pub c: ElemMat,
+    /// `∂f/∂v = 2 G q̇ − 2 v H q` [N s/m].
+    pub dv: ElemVec,
+    /// `∂f/∂v̇ = G q` [kg].
+    pub dv_dot: ElemVec,
+}
+
+impl Default for AleInertiaTangent {
+    fn default() -> Self {
+        Self {
+            k: ElemMat::zeros(),
+            c: ElemMat::zeros(),
+            dv: ElemVec::zeros(),
+            dv_dot: ElemVec::zeros(),
+        }
+    }
+}
+
+/// Inertia force of an element of the axially moving cable,
+/// `f = ρA ∫ Sᵀ (S q̈ + v̇ r' + 2 v S' q̇ + v² r'') dx = M q̈ + v̇ G q + 2 v G q̇ − v² H q` [N]
+/// (the last term by parts, see [`AleBand::h`]), written into `f`; with `tangent`, its partial
+/// derivatives. `m` is the element's mass matrix ([`consistent_mass`]).
+#[allow(clippy::too_many_arguments)]
+pub fn ale_inertia_into(
+    m: &ElemMat,
+    band: &AleBand,
+    q: &ElemVec,
+    qd: &ElemVec,
+    qdd: &ElemVec,
+    rates: AleRates,
+    f: &mut ElemVec,
+    tangent: Option<&mut AleInertiaTangent>,
+) {
+    let AleRates { v, v_dot } = rates;
+    let gq = band.g * q;
+    let gqd = band.g * qd;
+    let hq = band.h * q;
+    *f = m * qdd + v_dot * gq + (2.0 * v) * gqd - (v * v) * hq;
+    if let Some(t) = tangent {
+        t.k = v_dot * band.g - (v * v) * band.h;
+        t.c = (2.0 * v) * band.g;
+        t.dv = 2.0 * gqd - (2.0 * v) * hq;
+        t.dv_dot = gq;
+    }
+}
+
+impl AncfCable2d {
+    /// Convective part of the axial material damping of the axially moving cable: the material
+    /// strain rate is `ε̇ + v ε'` with `ε' = u·r''` (`u = r'/|r'|`), so the damping force
+    /// `∫ d_ε (ε̇ + v ε') ∂ε/∂q dx` of the moving belt is [`Self::internal_force`]'s plus
+    /// `f_v = ∫ d_ε v (u·r'') ∂ε/∂q dx` [N], which this adds to `f` (same axial points).
+    ///
+    /// With `k`, `dv`: adds `∂f_v/∂q` [N/m] to `k` and writes `∂f_v/∂v` [N s/m] into `dv`
+    /// (`f_v` does not depend on `q̇`: the damping matrix is [`Self::internal_force_tangent`]'s).
+    /// Per axial point, with `∂ε/∂q_a = s'_a u`, `P = (I − u uᵀ)/|r'|`, `∂u/∂r' = P`,
+    /// `∂(u·r'')/∂r' = P r''` and `∂(u·r'')/∂r'' = u`, node block `(a, b)` gains
+    /// `w d_ε v [s'_a s'_b (u (P r'')ᵀ + (u·r'') P) + s'_a s''_b u uᵀ]` (not symmetric).
+    ///
+    /// The bending damping's convective rate `v K'` is not included: the ALE belt refuses
+    /// bending damping.
+    pub fn convective_damping_into(
+        &self,
+        q: &ElemVec,
+        v: f64,
+        f: &mut ElemVec,
+        tangent: Option<(&mut ElemMat, &mut ElemVec)>,
+    ) {
+        let d = self.section.damping_axial;
+        let (mut fa, mut fv) = ([Vector2::<f64>::zeros(); 4], [Vector2::<f64>::zeros(); 4]);
+        let mut kb = [[Matrix2::zeros(); 4]; 4];
+        let want_tangent = tangent.is_some();
+        if d != 0.0 {
+            for p in &self.axial[..self.n_axial] {
+                let rp = combine(&p.d1, q);
+                let rpp = combine(&p.d2, q);
+                let len = rp.norm();
+                let u = rp / len;
+                let eps_x = u.dot(&rpp);
+                let a = (p.w * d * v * eps_x) * u;
+                let av = (p.w * d * eps_x) * u;
+                for ((block, bv), d1) in fa.iter_mut().zip(fv.iter_mut()).zip(&p.d1) {
+                    *block += *d1 * a;
+                    *bv += *d1 * av;
+                }
+                if want_tangent {
+                    let proj = (Matrix2::identity() - u * u.transpose()) / len;
+                    let wv = p.w * d * v;
+                    let b1 = wv * (u * (proj * rpp).transpose() + eps_x * proj);
+                    let b2 = wv * (u * u.transpose());
+                    for (i, row) in kb.iter_mut().enumerate() {
+                        for (j, blk) in row.iter_mut().enumerate() {
+                            *blk += (p.d1[i] * p.d1[j]) * b1 + (p.d1[i] * p.d2[j]) * b2;
+                        }
+                    }
+                }
+            }
+        }
+        for (i, block) in fa.iter().enumerate() {
+            f[2 * i] += block.x;
+            f[2 * i + 1] += block.y;
+        }
+        if let Some((k, dv)) = tangent {
+            for (i, block) in fv.iter().enumerate() {
+                dv[2 * i] = block.x;
+                dv[2 * i + 1] = block.y;
+            }
+            for (i, row) in kb.iter().enumerate() {
+                for (j, blk) in row.iter().enumerate() {
+                    let mut view = k.fixed_view_mut::<2, 2>(2 * i, 2 * j);
+                    view += blk;
+                }
+            }
+        }
+    }
+
+    /// Dissipated power of the axial material damping of the axially moving cable,
+    /// `∫ d_ε (ε̇ + v ε')² dx` [W] (bending damping excluded, see
+    /// [`Self::convective_damping_into`]).
+    pub fn ale_damping_power(&self, q: &ElemVec, qd: &ElemVec, v: f64) -> f64 {
+        let d = self.section.damping_axial;
+        if d == 0.0 {
+            return 0.0;
+        }
+        let mut pw = 0.0;
+        for p in &self.axial[..self.n_axial] {
+            let rp = combine(&p.d1, q);
+            let rate = rp.dot(&(combine(&p.d1, qd) + v * combine(&p.d2, q))) / rp.norm();
+            pw += p.w * d * rate * rate;
+        }
+        pw
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
 // The element trait
 // ---------------------------------------------------------------------------------------------
 

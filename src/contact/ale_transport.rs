@@ -1,0 +1,239 @@
+//! Semi-Lagrangian transport of the friction history for contact points fixed in the mesh of an
+//! axially moving (ALE) belt (design note "ale", prototype `scripts/ale_prototype.py`, issue 12
+//! item 2).
+//!
+//! The mesh coordinate `x` of the ALE belt is the reference arc length shifted by the belt travel
+//! (`x = X + s`, `v = ṡ`); its contact points stand still in the mesh, `m` of them equally spaced
+//! by `w` round the closed loop (point `j` at `x_j = x_0 + j w`). The bristle deflection belongs
+//! to the material: the material at `x_j` now sat at `x_j − h v` at the last accepted step. Its
+//! history for [`circle_friction::evaluate`](super::circle_friction::evaluate) is
+//! * `z`: linearly interpolated between the committed deflections of the two points around
+//!   `x_j − h v` (each taken as 0 unless it was in contact with the same pulley);
+//! * `dir`: `r_n(x_j − h v) − c` with the committed mesh coordinates `q_n`;
+//! * `theta`: the pulley's committed angle;
+//!
+//! and [`evaluate`](super::circle_friction::evaluate) is called with the material velocity
+//! `S q̇ + v r'` as the point's velocity. The history depends on `v` through the upstream shift;
+//! [`TransportedHistory::dz_trial_dv`] gives the rate of the trial deflection `z + Δs` in `v`,
+//! and [`history_rate`] turns it into the contact's `∂(F_x, F_y, τ)/∂v` from the kernel's own
+//! tangent (`θ` enters the kernel only through `Δs = ρ Δφ − R Δθ`, so
+//! `∂/∂(z + Δs) = −∂/∂θ / R`).
+
+use super::circle_friction::{Circle, PointContact, PointHistory};
+use nalgebra::{Vector2, Vector3};
+
+/// Where the material at a mesh point was at the last step, as an interpolation between two
+/// points of the loop.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Upstream {
+    /// First point (at or before the upstream position).
+    pub j0: usize,
+    /// Next point (round the loop).
+    pub j1: usize,
+    /// Interpolation weight of `j1` in `[0, 1)`.
+    pub alpha: f64,
+    /// Distance of the upstream position after point `j0` [m] (`alpha · w`): with `x_{j0}`, the
+    /// mesh position where the caller evaluates the committed field.
+    pub offset: f64,
+}
+
+/// The upstream position of point `j` of `m` points spaced by `w` [m] round the loop, for the
+/// mesh shift `shift = h v` [m] over the step (positive: the material moves towards larger `x`).
+pub fn upstream(j: usize, m: usize, w: f64, shift: f64) -> Upstream {
+    let a = (j as f64 - shift / w).rem_euclid(m as f64);
+    let base = a.floor();
+    let alpha = a - base;
+    // rem_euclid can round up to m itself
+    let j0 = (base as usize) % m;
+    Upstream {
+        j0,
+        j1: (j0 + 1) % m,
+        alpha,
+        offset: alpha * w,
+    }
+}
+
+/// The history of one point against one pulley, transported from upstream.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TransportedHistory {
+    /// History to pass to [`evaluate`](super::circle_friction::evaluate).
+    pub hist: PointHistory,
+    /// `∂z/∂v` [s] of the interpolated deflection.
+    pub dz_dv: f64,
+    /// `∂φ_n/∂v` [rad s/m] of the polar angle of the upstream point's committed direction.
+    pub dphi_dv: f64,
+}
+
+impl TransportedHistory {
+    /// `∂(z + Δs)/∂v` [s] for a point at distance `rho` [m] from the pulley centre
+    /// (`Δs = ρ (φ − φ_n) − R Δθ`).
+    pub fn dz_trial_dv(&self, rho: f64) -> f64 {
+        self.dz_dv - rho * self.dphi_dv
+    }
+}
+
+/// The transported history of a point: `up` from [`upstream`] with the shift `h v`, `z` the
+/// committed deflections of points `up.j0` and `up.j1` against this pulley (0 for a point that
+/// was not in contact with it), `r_up` and `rp_up` the committed position [m] and slope of the
+/// mesh at the upstream position, `theta_n` the pulley's committed angle [rad], `h` [s] the step
+/// and `w` [m] the spacing of the points.
+#[allow(clippy::too_many_arguments)]
+pub fn transported_history(
+    up: &Upstream,
+    z: (f64, f64),
+    r_up: Vector2<f64>,
+    rp_up: Vector2<f64>,
+    circle: &Circle,
+    theta_n: f64,
+    h: f64,
+    w: f64,
+) -> TransportedHistory {
+    let dir = r_up - circle.center;
+    let z_up = (1.0 - up.alpha) * z.0 + up.alpha * z.1;
+    // a = j − h v / w: ∂z/∂v = (z1 − z0) ∂α/∂v = −(z1 − z0) h / w
+    let dz_dv = -(z.1 - z.0) * h / w;
+    // ∂dir/∂v = −h r'_n; ∂φ/∂dir = (−dir_y, dir_x)/|dir|²
+    let ddir = -h * rp_up;
+    let dphi_dv = (dir.x * ddir.y - dir.y * ddir.x) / dir.norm_squared();
+    TransportedHistory {
+        hist: PointHistory {
+            dir,
+            theta: theta_n,
+            z: z_up,
+            f: 0.0,
+        },
+        dz_dv,
+        dphi_dv,
+    }
+}
+
+/// `∂(F_x, F_y, τ)/∂v` of a contact evaluated with a transported history, through the history
+/// alone (the velocity's part, `c · (r'_x, r'_y, 0)`, is the caller's).
+pub fn history_rate(
+    contact: &PointContact,
+    circle: &Circle,
+    tr: &TransportedHistory,
+) -> Vector3<f64> {
+    let rho = circle.radius + contact.gap;
+    let d_trial = tr.dz_trial_dv(rho);
+    contact.k.column(2) * (-d_trial / circle.radius)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::circle_friction::{PointState, evaluate};
+    use crate::contact::test_laws::belt;
+
+    /// Spacing, pulley and the committed loop of the tests: the mesh wraps the pulley of
+    /// radius 0.1 m at radius `R − 2e−5` (in contact), points every 5 mm.
+    const W: f64 = 5e-3;
+    const M: usize = 100;
+    const RADIUS: f64 = 0.1;
+
+    fn circle() -> Circle {
+        Circle {
+            center: Vector2::new(0.3, -0.1),
+            radius: RADIUS,
+        }
+    }
+
+    /// Committed mesh (position and slope per unit mesh length) at mesh position `x`.
+    fn committed(x: f64) -> (Vector2<f64>, Vector2<f64>) {
+        let rho = RADIUS - 2e-5;
+        let a = x / RADIUS;
+        (
+            circle().center + rho * Vector2::new(a.cos(), a.sin()),
+            (rho / RADIUS) * Vector2::new(-a.sin(), a.cos()),
+        )
+    }
+
+    /// Committed deflection of point `j` [m].
+    fn z_of(j: usize) -> f64 {
+        2e-6 * (0.3 * j as f64).sin() + 1e-6
+    }
+
+    fn history(j: usize, h: f64, v: f64) -> TransportedHistory {
+        let up = upstream(j, M, W, h * v);
+        let (r, rp) = committed(up.j0 as f64 * W + up.offset);
+        transported_history(&up, (z_of(up.j0), z_of(up.j1)), r, rp, &circle(), 0.4, h, W)
+    }
+
+    /// No shift: the point's own history; a shift of whole spacings: the history of the point
+    /// as many places upstream (wrapping round the loop, both directions); half a spacing: the
+    /// mean of the two deflections and the committed mesh half way.
+    #[test]
+    fn upstream_interpolation() {
+        let h = 1e-3;
+        let t = history(7, h, 0.0);
+        assert_eq!(t.hist.z, z_of(7));
+        assert!((t.hist.dir - (committed(7.0 * W).0 - circle().center)).norm() < 1e-15);
+        assert_eq!(upstream(2, M, W, 3.0 * W).j0, M - 1);
+        assert_eq!(upstream(2, M, W, 3.0 * W).alpha, 0.0);
+        assert_eq!(upstream(M - 1, M, W, -2.0 * W).j0, 1);
+        let up = upstream(10, M, W, 2.5 * W);
+        assert_eq!((up.j0, up.j1), (7, 8));
+        assert!((up.alpha - 0.5).abs() < 1e-12);
+        let t = history(10, h, 2.5 * W / h);
+        assert!((t.hist.z - 0.5 * (z_of(7) + z_of(8))).abs() < 1e-18);
+        assert!((t.hist.dir - (committed(7.5 * W).0 - circle().center)).norm() < 1e-14);
+        // a shift below round-off of the loop length stays at the point itself
+        let tiny = upstream(0, M, W, 1e-18);
+        assert_eq!((tiny.j0, tiny.alpha), (0, 0.0));
+        assert_eq!(upstream(0, M, W, 1e-9 * W).j0, M - 1);
+    }
+
+    /// The contact force and torque with the transported history, as functions of `v` through
+    /// the history alone (fixed point state), against central differences, in stick and in the
+    /// stick/slip blend (the derivative is not zero), and in Coulomb sliding (it is: the force is
+    /// `μ p`, which the history does not touch).
+    #[test]
+    fn history_rate_matches_finite_differences() {
+        let h = 1e-3;
+        let law = belt();
+        let c = circle();
+        for (j, v, slip_speed) in [
+            (20, 3.7, 0.0),
+            (31, 11.3, 0.02),
+            (40, -6.1, 0.135),
+            (45, 6.1, 0.5),
+        ] {
+            let x = j as f64 * W;
+            let a = x / RADIUS;
+            let n = Vector2::new(a.cos(), a.sin());
+            let t = Vector2::new(-n.y, n.x);
+            let state = PointState {
+                r: c.center + (RADIUS - 3e-5) * n,
+                v: (v + slip_speed) * t,
+                theta: 0.4 + h * v / RADIUS,
+                omega: v / RADIUS,
+            };
+            let eval = |v: f64| {
+                let tr = history(j, h, v);
+                let pc = evaluate(&law, &c, W, &state, &tr.hist).expect("in contact");
+                (pc, tr)
+            };
+            let (pc, tr) = eval(v);
+            let analytic = history_rate(&pc, &c, &tr);
+            let dv = 1e-4;
+            let (p1, _) = eval(v + dv);
+            let (p0, _) = eval(v - dv);
+            let diff = |p: &PointContact| Vector3::new(p.force.x, p.force.y, p.torque);
+            let fd = (diff(&p1) - diff(&p0)) / (2.0 * dv);
+            if slip_speed >= 0.5 {
+                assert!(pc.slipping && analytic == Vector3::zeros() && fd.norm() < 1e-9);
+                continue;
+            }
+            assert!(analytic.norm() > 1.0, "j {j}: {analytic}");
+            // the third case lies in the stick/slip blend (|f| between 0.95 and 1 of μ p)
+            let ratio = (pc.friction / (law.mu * pc.pressure)).abs();
+            assert_eq!(ratio > 0.95, slip_speed > 0.1, "j {j}: |f|/(μ p) = {ratio}");
+            assert!(ratio < 1.0);
+            assert!(
+                (analytic - fd).norm() <= 1e-6 * fd.norm(),
+                "j {j}, v {v}, slipping {}: {analytic} vs {fd}",
+                pc.slipping
+            );
+        }
+    }
+}
