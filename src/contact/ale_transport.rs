@@ -9,6 +9,8 @@
 //! history for [`circle_friction::evaluate`](super::circle_friction::evaluate) is
 //! * `z`: linearly interpolated between the committed deflections of the two points around
 //!   `x_j − h v` (each taken as 0 unless it was in contact with the same pulley);
+//! * `f`: the committed friction force per length, interpolated the same way (the material's
+//!   last friction, which the trapezoidal friction work `w (f_n + f)/2 Δs` reads);
 //! * `dir`: `r_n(x_j − h v) − c` with the committed mesh coordinates `q_n`;
 //! * `theta`: the pulley's committed angle;
 //!
@@ -72,15 +74,16 @@ impl TransportedHistory {
     }
 }
 
-/// The transported history of a point: `up` from [`upstream`] with the shift `h v`, `z` the
-/// committed deflections of points `up.j0` and `up.j1` against this pulley (0 for a point that
-/// was not in contact with it), `r_up` and `rp_up` the committed position [m] and slope of the
+/// The transported history of a point: `up` from [`upstream`] with the shift `h v`, `committed`
+/// the committed `(z, f)` (bristle deflection [m], friction force per length [N/m]) of points
+/// `up.j0` and `up.j1` against this pulley (0 for a point that was not in contact with it),
+/// `r_up` and `rp_up` the committed position [m] and slope of the
 /// mesh at the upstream position, `theta_n` the pulley's committed angle [rad], `h` [s] the step
 /// and `w` [m] the spacing of the points.
 #[allow(clippy::too_many_arguments)]
 pub fn transported_history(
     up: &Upstream,
-    z: (f64, f64),
+    committed: ((f64, f64), (f64, f64)),
     r_up: Vector2<f64>,
     rp_up: Vector2<f64>,
     circle: &Circle,
@@ -89,9 +92,11 @@ pub fn transported_history(
     w: f64,
 ) -> TransportedHistory {
     let dir = r_up - circle.center;
-    let z_up = (1.0 - up.alpha) * z.0 + up.alpha * z.1;
+    let ((z0, f0), (z1, f1)) = committed;
+    let z_up = (1.0 - up.alpha) * z0 + up.alpha * z1;
+    let f_up = (1.0 - up.alpha) * f0 + up.alpha * f1;
     // a = j − h v / w: ∂z/∂v = (z1 − z0) ∂α/∂v = −(z1 − z0) h / w
-    let dz_dv = -(z.1 - z.0) * h / w;
+    let dz_dv = -(z1 - z0) * h / w;
     // ∂dir/∂v = −h r'_n; ∂φ/∂dir = (−dir_y, dir_x)/|dir|²
     let ddir = -h * rp_up;
     let dphi_dv = (dir.x * ddir.y - dir.y * ddir.x) / dir.norm_squared();
@@ -100,7 +105,7 @@ pub fn transported_history(
             dir,
             theta: theta_n,
             z: z_up,
-            f: 0.0,
+            f: f_up,
         },
         dz_dv,
         dphi_dv,
@@ -153,20 +158,37 @@ mod tests {
         2e-6 * (0.3 * j as f64).sin() + 1e-6
     }
 
+    /// Committed friction force per length of point `j` [N/m] (of the sign of its deflection).
+    fn f_of(j: usize) -> f64 {
+        1e4 * z_of(j)
+    }
+
     fn history(j: usize, h: f64, v: f64) -> TransportedHistory {
         let up = upstream(j, M, W, h * v);
         let (r, rp) = committed(up.j0 as f64 * W + up.offset);
-        transported_history(&up, (z_of(up.j0), z_of(up.j1)), r, rp, &circle(), 0.4, h, W)
+        let committed = |j: usize| (z_of(j), f_of(j));
+        transported_history(
+            &up,
+            (committed(up.j0), committed(up.j1)),
+            r,
+            rp,
+            &circle(),
+            0.4,
+            h,
+            W,
+        )
     }
 
     /// No shift: the point's own history; a shift of whole spacings: the history of the point
     /// as many places upstream (wrapping round the loop, both directions); half a spacing: the
-    /// mean of the two deflections and the committed mesh half way.
+    /// mean of the two deflections (and of the two friction forces, which the trapezoidal
+    /// friction work reads) and the committed mesh half way.
     #[test]
     fn upstream_interpolation() {
         let h = 1e-3;
         let t = history(7, h, 0.0);
         assert_eq!(t.hist.z, z_of(7));
+        assert_eq!(t.hist.f, f_of(7));
         assert!((t.hist.dir - (committed(7.0 * W).0 - circle().center)).norm() < 1e-15);
         assert_eq!(upstream(2, M, W, 3.0 * W).j0, M - 1);
         assert_eq!(upstream(2, M, W, 3.0 * W).alpha, 0.0);
@@ -176,6 +198,7 @@ mod tests {
         assert!((up.alpha - 0.5).abs() < 1e-12);
         let t = history(10, h, 2.5 * W / h);
         assert!((t.hist.z - 0.5 * (z_of(7) + z_of(8))).abs() < 1e-18);
+        assert!((t.hist.f - 0.5 * (f_of(7) + f_of(8))).abs() < 1e-12);
         assert!((t.hist.dir - (committed(7.5 * W).0 - circle().center)).norm() < 1e-14);
         // a shift below round-off of the loop length stays at the point itself
         let tiny = upstream(0, M, W, 1e-18);

@@ -255,6 +255,63 @@ mod tests {
         }
     }
 
+    /// Several right-hand sides with a rank-one part on the bordered backend (a ring with a
+    /// dense last row and column, which `Auto` gives to it): each column is the single solve's,
+    /// and the product with the full matrix gives it back.
+    #[test]
+    fn solve_many_on_the_bordered_backend() {
+        let n: usize = 80;
+        let mut entries = vec![];
+        for i in 0..n {
+            entries.push((i, i));
+            entries.push((i, (i + 1) % n));
+            entries.push(((i + 1) % n, i));
+            entries.push((i, n - 1));
+            entries.push((n - 1, i));
+        }
+        let p = CscPattern::from_entries(n, entries);
+        let mut vals = vec![0.0; rank_one_len(&p)];
+        for c in 0..n {
+            for k in p.col_ptr()[c]..p.col_ptr()[c + 1] {
+                let r = p.row_idx()[k];
+                vals[k] = if r == c {
+                    6.0
+                } else {
+                    -0.3 / (1.0 + ((r + 3 * c) % 7) as f64)
+                };
+            }
+        }
+        let cc = -0.21;
+        vals[p.nnz()] = cc;
+        let g: Vec<f64> = (0..n).map(|i| (0.2 * i as f64).sin() + 0.1).collect();
+        vals[p.nnz() + 1..].copy_from_slice(&g);
+        let mut s = LinearSolver::new(&p, SolverKind::Auto).unwrap();
+        assert!(matches!(s.backend(), Backend::Bordered(_)));
+        s.factor(&p, &vals).unwrap();
+        let cols: Vec<Vec<f64>> = (0..3)
+            .map(|j| {
+                (0..n)
+                    .map(|i| ((j + 1) as f64 * 0.37 * i as f64).cos())
+                    .collect()
+            })
+            .collect();
+        let mut many = cols.concat();
+        s.solve_many_in_place(&mut many);
+        for (j, rhs) in cols.iter().enumerate() {
+            let mut x = rhs.clone();
+            s.solve_in_place(&mut x);
+            let col = &many[j * n..(j + 1) * n];
+            let mut y = vec![0.0; n];
+            p.mul_vec(&vals[..p.nnz()], col, &mut y);
+            let gx = dot(&g, col);
+            for i in 0..n {
+                assert!((col[i] - x[i]).abs() < 1e-14, "column {j} at {i}");
+                y[i] += cc * g[i] * gx;
+                assert!((y[i] - rhs[i]).abs() < 1e-12, "column {j}: residual at {i}");
+            }
+        }
+    }
+
     /// Both backends solve the same (non-banded, arrow-shaped) system.
     #[test]
     fn backends_agree() {
