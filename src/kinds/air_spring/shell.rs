@@ -329,7 +329,9 @@ pub struct AirSpringShell {
     strain: Cell<Option<f64>>,
     /// The plate contact's penalty energy of the committed state [J] (stored elastic energy).
     plate_energy: f64,
-    kinetic: f64,
+    /// Kinetic energy of the committed state [J] (zero with quasi-static steps), computed on
+    /// the first request after a commit ([`AirSpringShell::kinetic_energy`]).
+    kinetic: Cell<Option<f64>>,
     /// Quasi-static steps (`solver.integrator = "quasi_static"`): no inertia, no kinetic
     /// energy.
     quasi_static: bool,
@@ -730,7 +732,7 @@ impl AirSpringShell {
             last_strain: 0.0,
             strain: Cell::new(Some(0.0)),
             plate_energy: 0.0,
-            kinetic: 0.0,
+            kinetic: Cell::new(Some(0.0)),
             quasi_static: false,
             input_jump: None,
             trend: StepTrend::new(n_free),
@@ -1280,11 +1282,11 @@ impl AirSpringShell {
         Ok(())
     }
 
-    /// Books the plate load of the committed state (its accelerations) and its kinetic energy;
-    /// `vb` is its bag volume ([`AirSpringShell::bag_volume`] of the committed coordinates and
+    /// Books the plate load of the committed state (its accelerations); `vb` is its bag volume ([`AirSpringShell::bag_volume`] of the committed coordinates and
     /// pose, which every caller has computed already). The load comes from the bead ring's
     /// rows alone ([`AirSpringShell::bead_rows`]: those of the full residual, bit for bit); the
-    /// strain energy is computed when asked ([`AirSpringShell::strain_energy`]).
+    /// strain and kinetic energies are computed when asked ([`AirSpringShell::strain_energy`],
+    /// [`AirSpringShell::kinetic_energy`]).
     fn commit_reaction(&mut self, vb: f64) -> Result<(), ModelError> {
         self.st.qw.copy_from_slice(&self.st.q);
         self.st.vw.copy_from_slice(&self.st.v);
@@ -1300,6 +1302,8 @@ impl AirSpringShell {
         self.prescribe_pose(&pose, false);
         self.strain.set(None);
         self.plate_energy = 0.0;
+        // no inertia in quasi-static steps (whether they are is what counts at the commit)
+        self.kinetic.set(self.quasi_static.then_some(0.0));
         if !(vb.is_finite() && vb > 0.0) {
             return Err(ModelError::NonFinite);
         }
@@ -1313,16 +1317,6 @@ impl AirSpringShell {
         self.force = self.plate_load(p_g);
         if !self.force.iter().all(|f| f.is_finite()) {
             return Err(ModelError::NonFinite);
-        }
-        self.kinetic = 0.0;
-        if !self.quasi_static {
-            self.kinetic = self
-                .main
-                .quads
-                .kinetic_energy(&self.st.qw, &self.st.vw, None);
-            if let Some(s) = &self.main.shells {
-                self.kinetic += s.kinetic_energy(&self.st.qw, &self.st.vw, Some(&self.st.frames));
-            }
         }
         Ok(())
     }
@@ -1368,6 +1362,21 @@ impl AirSpringShell {
             f[i..i + 3].copy_from_slice(&row);
         }
         st.fw = f;
+    }
+
+    /// The kinetic energy of the committed state [J], computed on the first request after a
+    /// commit.
+    fn kinetic_energy(&self) -> f64 {
+        if let Some(t) = self.kinetic.get() {
+            return t;
+        }
+        let (q, v) = (&self.st.q, &self.st.v);
+        let mut t = self.main.quads.kinetic_energy(q, v, None);
+        if let Some(s) = &self.main.shells {
+            t += s.kinetic_energy(q, v, Some(&self.st.frames));
+        }
+        self.kinetic.set(Some(t));
+        t
     }
 
     /// The strain energy of the committed state [J]: the elements' and the plate contact's
@@ -1642,7 +1651,7 @@ impl AirSpringShell {
             Output::Stiffness => self.condensed().map_or(f64::NAN, |c| -c.k[2][AXIS_Z]),
             Output::LobeRadius => self.lobe_radius(),
             Output::StrainEnergy => self.strain_energy(),
-            Output::KineticEnergy => self.kinetic,
+            Output::KineticEnergy => self.kinetic_energy(),
             Output::PlateWork => self.plate_work,
             Output::Dissipated => e.heat_out + e.loss_work + self.contact_loss,
             _ => f64::NAN,
@@ -1993,7 +2002,7 @@ impl Model for AirSpringShell {
         }
         for x in [
             self.strain_energy(),
-            self.kinetic,
+            self.kinetic_energy(),
             self.plate_work,
             self.contact_loss,
             self.last_damping_power,
@@ -2020,10 +2029,10 @@ impl Model for AirSpringShell {
         for i in 0..PLATE_AXES {
             self.force[i] = r.f64().map_err(e)?;
         }
-        let mut strain = 0.0;
+        let (mut strain, mut kinetic) = (0.0, 0.0);
         for x in [
             &mut strain,
-            &mut self.kinetic,
+            &mut kinetic,
             &mut self.plate_work,
             &mut self.contact_loss,
             &mut self.last_damping_power,
@@ -2031,6 +2040,7 @@ impl Model for AirSpringShell {
             *x = r.f64().map_err(e)?;
         }
         self.strain.set(Some(strain));
+        self.kinetic.set(Some(kinetic));
         self.plate_energy = 0.0;
         self.main.contact.restore(r)?;
         self.gas.restore(r).map_err(e)?;
