@@ -364,6 +364,32 @@ impl<E: Element<N>, const N: usize> ElementSet<E, N> {
         x: &Eval,
         frames: Option<&mut NodeFrames>,
         f: &mut [f64],
+        jac: Option<(JacobianCoeffs, &mut [f64])>,
+    ) -> f64 {
+        self.add_residual_over(0..self.len(), x, frames, f, jac)
+    }
+
+    /// [`ElementSet::add_residual`] of the listed elements only, without the iteration matrix:
+    /// the rows of coordinates that only these elements touch are those of the full residual,
+    /// bit for bit when `elements` ascend (the same terms added in the same order). For the
+    /// reactions of a few prescribed rows (e.g. a ring held by a plate) without a pass over
+    /// every element. Returns the listed elements' strain energy [J].
+    pub fn add_residual_of(
+        &self,
+        elements: &[usize],
+        x: &Eval,
+        frames: Option<&mut NodeFrames>,
+        f: &mut [f64],
+    ) -> f64 {
+        self.add_residual_over(elements.iter().copied(), x, frames, f, None)
+    }
+
+    fn add_residual_over(
+        &self,
+        elements: impl Iterator<Item = usize>,
+        x: &Eval,
+        frames: Option<&mut NodeFrames>,
+        f: &mut [f64],
         mut jac: Option<(JacobianCoeffs, &mut [f64])>,
     ) -> f64 {
         let table: &[Frame] = match frames {
@@ -385,7 +411,7 @@ impl<E: Element<N>, const N: usize> ElementSet<E, N> {
                 *v += c.mass * m;
             }
         }
-        for e in 0..self.len() {
+        for e in elements {
             if self.n_frames > 0 {
                 self.frames_of(e, table, &mut buf);
             }

@@ -72,7 +72,7 @@ use crate::scene::params::ParamValues;
 use crate::snapshot::{StateReader, StateWriter};
 use crate::variables::Value;
 use nalgebra::{Matrix3, SMatrix, SVector, UnitQuaternion, Vector3};
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -229,6 +229,9 @@ impl Mech {
 struct Ends {
     /// Nodes of the bead ring and their offsets from the plate centre in the plate's frame [m].
     bead: Vec<(usize, Vector3<f64>)>,
+    /// The elements with a node on the bead ring, ascending (the only ones with a residual
+    /// in the bead ring's rows, [`AirSpringShell::bead_rows`]).
+    bead_elements: Vec<usize>,
     /// Vector area of the plate cap in the plate's frame (along +z) [m²].
     plate_area: Vector3<f64>,
     /// Bag volume below the piston-top cap: `(1/3) x · A` of that cap [m³] (constant).
@@ -287,8 +290,6 @@ struct Condensation {
 struct Work {
     /// Unit pressure load (= volume gradient on the free nodes), full.
     g: Vec<f64>,
-    /// Free residual of the committed state's evaluation.
-    r: Vec<f64>,
     /// Pose, rates and second rates of the plate of the evaluation.
     pose: [[f64; PLATE_AXES]; 3],
 }
@@ -323,8 +324,14 @@ pub struct AirSpringShell {
     scales: Vec<f64>,
     work: Work,
     last_strain: f64,
-    strain: f64,
-    kinetic: f64,
+    /// Strain energy of the committed state (elements and the plate contact's penalty) [J],
+    /// computed on the first request after a commit ([`AirSpringShell::strain_energy`]).
+    strain: Cell<Option<f64>>,
+    /// The plate contact's penalty energy of the committed state [J] (stored elastic energy).
+    plate_energy: f64,
+    /// Kinetic energy of the committed state [J] (zero with quasi-static steps), computed on
+    /// the first request after a commit ([`AirSpringShell::kinetic_energy`]).
+    kinetic: Cell<Option<f64>>,
     /// Quasi-static steps (`solver.integrator = "quasi_static"`): no inertia, no kinetic
     /// energy.
     quasi_static: bool,
@@ -659,11 +666,15 @@ impl AirSpringShell {
                 let (sn, cs) = phi(j).sin_cos();
                 (node(0, j), Vector3::new(s * rb * cs, s * rb * sn, 0.0))
             })
+            .collect::<Vec<_>>();
+        let bead_elements = (0..elements.len())
+            .filter(|&e| elements[e].iter().any(|k| bead.iter().any(|(b, _)| b == k)))
             .collect();
         let poly =
             |r: f64| 0.5 * n_circ as f64 * (s * r).powi(2) * (2.0 * PI / n_circ as f64).sin();
         let ends = Ends {
             bead,
+            bead_elements,
             plate_area: Vector3::new(0.0, 0.0, poly(rb)),
             clamp_cap: -clamp[1] * poly(clamp[0]) / 3.0,
             plate_nodes,
@@ -716,12 +727,12 @@ impl AirSpringShell {
             scales,
             work: Work {
                 g: vec![0.0; n_full],
-                r: vec![0.0; n_free],
                 pose: [[0.0; PLATE_AXES]; 3],
             },
             last_strain: 0.0,
-            strain: 0.0,
-            kinetic: 0.0,
+            strain: Cell::new(Some(0.0)),
+            plate_energy: 0.0,
+            kinetic: Cell::new(Some(0.0)),
             quasi_static: false,
             input_jump: None,
             trend: StepTrend::new(n_free),
@@ -756,7 +767,7 @@ impl AirSpringShell {
         model.gas.charge(pd, vd).map_err(|e| gas_error(e, &gp))?;
         model.v_charge = model.gas.committed().volume;
         model
-            .commit_reaction()
+            .commit_reaction(vd)
             .map_err(|e| gas_error(format!("design state: {e}"), &gp))?;
         Ok(model)
     }
@@ -799,7 +810,7 @@ impl AirSpringShell {
         self.continuation(from, pose, Pressure::Static)?;
         let vb = self.bag_volume(&self.st.q, &self.pose);
         self.gas.set_static(vb).map_err(|e| e.to_string())?;
-        self.commit_reaction().map_err(|e| e.to_string())?;
+        self.commit_reaction(vb).map_err(|e| e.to_string())?;
         Ok(self.force)
     }
 
@@ -1271,9 +1282,12 @@ impl AirSpringShell {
         Ok(())
     }
 
-    /// Evaluates the committed state (its accelerations) and books the plate load and the
-    /// energies.
-    fn commit_reaction(&mut self) -> Result<(), ModelError> {
+    /// Books the plate load of the committed state (its accelerations); `vb` is its bag volume ([`AirSpringShell::bag_volume`] of the committed coordinates and
+    /// pose, which every caller has computed already). The load comes from the bead ring's
+    /// rows alone ([`AirSpringShell::bead_rows`]: those of the full residual, bit for bit); the
+    /// strain and kinetic energies are computed when asked ([`AirSpringShell::strain_energy`],
+    /// [`AirSpringShell::kinetic_energy`]).
+    fn commit_reaction(&mut self, vb: f64) -> Result<(), ModelError> {
         self.st.qw.copy_from_slice(&self.st.q);
         self.st.vw.copy_from_slice(&self.st.v);
         self.st.aw.copy_from_slice(&self.st.acc);
@@ -1286,28 +1300,98 @@ impl AirSpringShell {
             self.work.pose[2][i] = acc;
         }
         self.prescribe_pose(&pose, false);
-        let mut r = std::mem::take(&mut self.work.r);
-        let res = self.evaluate_filled(Pressure::Step(0.0), &mut r, None);
-        self.work.r = r;
-        res?;
+        self.strain.set(None);
+        self.plate_energy = 0.0;
+        // no inertia in quasi-static steps (whether they are is what counts at the commit)
+        self.kinetic.set(self.quasi_static.then_some(0.0));
+        if !(vb.is_finite() && vb > 0.0) {
+            return Err(ModelError::NonFinite);
+        }
+        let (p_res, _) = Pressure::Step(0.0).gauge(&self.gas, self.ambient, vb)?;
+        self.bead_rows(p_res);
         let p_g = self
             .gas
-            .evaluate(0.0, self.bag_volume(&self.st.qw, &pose))
+            .evaluate(0.0, vb)
             .map_err(|_| ModelError::NonFinite)?
             .p_gauge;
         self.force = self.plate_load(p_g);
-        self.strain = self.last_strain;
-        self.kinetic = 0.0;
-        if !self.quasi_static {
-            self.kinetic = self
-                .main
-                .quads
-                .kinetic_energy(&self.st.qw, &self.st.vw, None);
-            if let Some(s) = &self.main.shells {
-                self.kinetic += s.kinetic_energy(&self.st.qw, &self.st.vw, Some(&self.st.frames));
-            }
+        if !self.force.iter().all(|f| f.is_finite()) {
+            return Err(ModelError::NonFinite);
         }
         Ok(())
+    }
+
+    /// The bead ring's rows of the residual at the work state with the gauge pressure `p_g`
+    /// [Pa] into `self.st.fw`, as [`AirSpringShell::assemble`] puts them there (the same terms
+    /// added in the same order: the elements on the ring in ascending order, the gas on them,
+    /// the piston contact of the ring's nodes; the plate contact has no bead node), from the
+    /// [`Ends::bead_elements`] alone. The other rows of `fw` hold partial sums.
+    fn bead_rows(&mut self, p_g: f64) {
+        let mut f = std::mem::take(&mut self.st.fw);
+        f.fill(0.0);
+        let g = &mut self.work.g;
+        g.fill(0.0);
+        let (mech, st, ends) = (&self.main, &mut self.st, &self.ends);
+        let x = Eval {
+            q: &st.qw,
+            v: &st.vw,
+            a: &st.aw,
+            g: Vector3::zeros(),
+        };
+        mech.quads
+            .add_residual_of(&ends.bead_elements, &x, None, &mut f);
+        if let Some(s) = &mech.shells {
+            s.add_residual_of(&ends.bead_elements, &x, Some(&mut st.frames), &mut f);
+        }
+        let conn = mech.quads.connectivity();
+        let mut fe = SVector::<f64, 12>::zeros();
+        for &e in &ends.bead_elements {
+            let d = conn.dofs(e);
+            let xe: [Vector3<f64>; 4] = std::array::from_fn(|i| {
+                Vector3::new(st.qw[d[3 * i]], st.qw[d[3 * i + 1]], st.qw[d[3 * i + 2]])
+            });
+            pressure_into(&xe, 1.0, &mut fe, None);
+            conn.add_vector(e, &fe, 1.0, g);
+        }
+        for &(k, _) in &ends.bead {
+            let i = k * NODE_DOFS;
+            let mut row: [f64; 3] = std::array::from_fn(|c| f[i + c] - p_g * g[i + c]);
+            // the piston contact's block `k` is node `k`'s
+            mech.contact
+                .subtract_element_forces(k, &st.qw, &st.vw, &mut row);
+            f[i..i + 3].copy_from_slice(&row);
+        }
+        st.fw = f;
+    }
+
+    /// The kinetic energy of the committed state [J], computed on the first request after a
+    /// commit.
+    fn kinetic_energy(&self) -> f64 {
+        if let Some(t) = self.kinetic.get() {
+            return t;
+        }
+        let (q, v) = (&self.st.q, &self.st.v);
+        let mut t = self.main.quads.kinetic_energy(q, v, None);
+        if let Some(s) = &self.main.shells {
+            t += s.kinetic_energy(q, v, Some(&self.st.frames));
+        }
+        self.kinetic.set(Some(t));
+        t
+    }
+
+    /// The strain energy of the committed state [J]: the elements' and the plate contact's
+    /// penalty energy, computed on the first request after a commit.
+    fn strain_energy(&self) -> f64 {
+        if let Some(u) = self.strain.get() {
+            return u;
+        }
+        let mut u = self.main.quads.strain_energy(&self.st.q, None);
+        if let Some(s) = &self.main.shells {
+            u += s.strain_energy(&self.st.q, Some(&self.st.frames));
+        }
+        let u = u + self.plate_energy;
+        self.strain.set(Some(u));
+        u
     }
 
     /// The port block of the committed state, computed on the first request after a commit.
@@ -1566,8 +1650,8 @@ impl AirSpringShell {
             Output::VolumetricArea => self.condensed().map_or(f64::NAN, |c| c.dv[AXIS_Z]),
             Output::Stiffness => self.condensed().map_or(f64::NAN, |c| -c.k[2][AXIS_Z]),
             Output::LobeRadius => self.lobe_radius(),
-            Output::StrainEnergy => self.strain,
-            Output::KineticEnergy => self.kinetic,
+            Output::StrainEnergy => self.strain_energy(),
+            Output::KineticEnergy => self.kinetic_energy(),
             Output::PlateWork => self.plate_work,
             Output::Dissipated => e.heat_out + e.loss_work + self.contact_loss,
             _ => f64::NAN,
@@ -1880,11 +1964,12 @@ impl Model for AirSpringShell {
         let power = book.dissipation + plate.dissipation;
         self.contact_loss += 0.5 * (self.last_damping_power + power) * dt + book.friction_work;
         self.last_damping_power = power;
-        if self.commit_reaction().is_err() {
+        // `vb`: the committed state's bag volume (the same coordinates and pose)
+        if self.commit_reaction(vb).is_err() {
             self.force = [f64::NAN; PLATE_AXES];
         }
         // the plate's penalty energy is stored elastic energy
-        self.strain += plate.normal_energy;
+        self.plate_energy = plate.normal_energy;
         if self.initialized {
             for i in 0..PLATE_AXES {
                 self.plate_work -=
@@ -1916,8 +2001,8 @@ impl Model for AirSpringShell {
             w.f64(*x);
         }
         for x in [
-            self.strain,
-            self.kinetic,
+            self.strain_energy(),
+            self.kinetic_energy(),
             self.plate_work,
             self.contact_loss,
             self.last_damping_power,
@@ -1944,15 +2029,19 @@ impl Model for AirSpringShell {
         for i in 0..PLATE_AXES {
             self.force[i] = r.f64().map_err(e)?;
         }
+        let (mut strain, mut kinetic) = (0.0, 0.0);
         for x in [
-            &mut self.strain,
-            &mut self.kinetic,
+            &mut strain,
+            &mut kinetic,
             &mut self.plate_work,
             &mut self.contact_loss,
             &mut self.last_damping_power,
         ] {
             *x = r.f64().map_err(e)?;
         }
+        self.strain.set(Some(strain));
+        self.kinetic.set(Some(kinetic));
+        self.plate_energy = 0.0;
         self.main.contact.restore(r)?;
         self.gas.restore(r).map_err(e)?;
         if self.quasi_static {
@@ -1960,5 +2049,88 @@ impl Model for AirSpringShell {
         }
         self.commits += 1;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    impl AirSpringShell {
+        /// The plate load of the committed state from the full residual (what the accept
+        /// computed before it took the bead ring's rows alone) and its strain energy.
+        fn full_reaction(&mut self) -> ([f64; PLATE_AXES], f64) {
+            let mut r = vec![0.0; self.n_free()];
+            self.evaluate_filled(Pressure::Step(0.0), &mut r, None)
+                .unwrap();
+            let vb = self.bag_volume(&self.st.qw, &self.pose);
+            let p_g = self.gas.evaluate(0.0, vb).unwrap().p_gauge;
+            (self.plate_load(p_g), self.last_strain)
+        }
+    }
+
+    /// The plate load the accept takes from the bead ring's rows is that of the full residual,
+    /// and the strain energy computed when asked is the full residual's, on a plate moving
+    /// down, sideways and tilting (with rates and the sleeve's velocities and accelerations),
+    /// with and without bending (the shell elements' rows).
+    #[test]
+    fn plate_load_from_the_bead_rows_is_that_of_the_full_residual() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/air_spring.toml");
+        let scene = Scene::from_path(&path).unwrap();
+        let tables: &AirSpringScene = scene.tables().unwrap();
+        for bending in [0.0, 0.05] {
+            let mut p = ParamValues::defaults(&scene.params);
+            p.set(BELLOWS_BENDING_STIFFNESS, Value::Real(bending));
+            p.set(MESH_N_CIRCUMFERENTIAL, Value::Integer(12));
+            p.set(MESH_N_MERIDIONAL, Value::Integer(16));
+            let mut m = AirSpringShell::build(tables, &p).unwrap();
+            let n = m.n_free();
+            let mut state = DynState::zeros(n, 0.0);
+            m.free_state(&mut state.q, &mut state.v);
+            m.accept(&mut state);
+            let input = |i: Input| m.inputs.iter().position(|x| *x == i).unwrap();
+            let motion = [
+                (input(Input::TopZ), input(Input::TopVz), 0.25, -0.5),
+                (input(Input::TopX), input(Input::TopVx), 0.0, 0.2),
+                (input(Input::TopRx), input(Input::TopWx), 0.0, 1.0),
+                (input(Input::TopRy), input(Input::TopWy), 0.0, -0.5),
+            ];
+            for k in 0..6 {
+                let t = 1e-3 * (k + 1) as f64;
+                for &(ix, iv, x0, rate) in &motion {
+                    m.set_input(ix, x0 + rate * t);
+                    m.set_input(iv, rate);
+                }
+                // a nearby state: the last commit's shape, some velocity and acceleration
+                let mut s = DynState::zeros(n, t);
+                m.free_state(&mut s.q, &mut s.v);
+                for i in 0..n {
+                    s.v[i] = 0.01 * ((i * 7) % 5) as f64 - 0.02;
+                    s.acc[i] = 3.0 * ((i * 3) % 7) as f64 - 9.0;
+                }
+                m.accept(&mut s);
+                let rows = m.force;
+                let lazy = m.strain_energy();
+                let plate_energy = m.plate_energy;
+                let (full, u) = m.full_reaction();
+                let scale = full[2].abs();
+                assert!(scale > 1e3, "fz {}", full[2]);
+                for i in 0..PLATE_AXES {
+                    assert!(
+                        (rows[i] - full[i]).abs() <= 1e-12 * scale,
+                        "bending {bending}, step {k}, axis {i}: {} from the rows, {} from the full residual",
+                        rows[i],
+                        full[i]
+                    );
+                }
+                assert!(full[0].abs() > 1.0 && full[3].abs() > 1e-2, "{full:?}");
+                let u = u + plate_energy;
+                assert!(
+                    (lazy - u).abs() <= 1e-12 * u.abs(),
+                    "strain energy {lazy} vs {u}"
+                );
+            }
+        }
     }
 }
