@@ -74,6 +74,7 @@ use crate::elements::rotation::skew;
 use crate::model::JacobianCoeffs;
 use crate::snapshot::{StateReader, StateWriter};
 use nalgebra::{Matrix3, SMatrix, Vector3};
+use std::cell::Cell;
 
 /// Coordinates of one (element, pulley) block: the element's first node's position (3) and
 /// rotation vector (3), its second node's (3 + 3), the pulley angle (1).
@@ -124,6 +125,14 @@ impl Station {
     }
 }
 
+/// The term of the (point, pulley) pair with history index `i` in the signature of the set of
+/// pairs in contact ([`SectionContactSet::contacts_as_in_matrix`]): `i + 1` times the 64-bit
+/// golden-ratio constant (Fibonacci hashing, Knuth, TAOCP vol. 3 §6.4), wrapping.
+#[inline(always)]
+fn contact_key(i: usize) -> u64 {
+    (i as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+}
+
 /// Contact of the sections of a belt against 3D pulleys: at its nodes, or at stations
 /// between them.
 #[derive(Clone, Debug)]
@@ -156,6 +165,11 @@ pub struct SectionContactSet {
     /// Histories by element, station, point, pulley.
     hist: Vec<Pulley3dHistory>,
     loads: Vec<ObstacleLoad<3>>,
+    /// Signature of the set of (point, pulley) pairs in contact at the last evaluation that
+    /// built an iteration matrix ([`Self::contacts_as_in_matrix`]).
+    built_sig: Cell<u64>,
+    /// Signature of the set of (point, pulley) pairs in contact at the last evaluation.
+    last_sig: Cell<u64>,
 }
 
 /// Point motion of a width point and what its spin maps `G_n = −R_n ũ_n` and
@@ -246,6 +260,8 @@ impl SectionContactSet {
                     .any(|st| st.w[i / 6] != 0.0 || st.b[i / 6] != 0.0)
         });
         let mut me = Self {
+            built_sig: Default::default(),
+            last_sig: Default::default(),
             law,
             loads: vec![ObstacleLoad::default(); obstacles.len()],
             hist: vec![
@@ -434,6 +450,7 @@ impl SectionContactSet {
             .as_ref()
             .map_or((0.0, 0.0), |(c, _)| (c.stiffness, c.damping));
         let mut mb = Block::zeros();
+        let mut sig = 0u64;
         for (e, nodes) in self.elements.iter().enumerate() {
             if !(0..no).any(|k| self.element_near(e * no + k, k, q)) {
                 continue;
@@ -472,6 +489,7 @@ impl SectionContactSet {
                         ) else {
                             continue;
                         };
+                        sig = sig.wrapping_add(contact_key(((e * ns + i) * np + j) * no + k));
                         if !any && jac.is_some() {
                             mb.fill(0.0);
                         }
@@ -497,6 +515,20 @@ impl SectionContactSet {
                 }
             }
         }
+        self.last_sig.set(sig);
+        if jac.is_some() {
+            self.built_sig.set(sig);
+        }
+    }
+
+    /// Whether the (point, pulley) pairs in contact (rim or flange) at the last evaluation
+    /// ([`Self::add_residual`]) are those of the last evaluation that built an iteration
+    /// matrix: the contact blocks of a kept matrix belong to those pairs, and a pair that came
+    /// into contact since (a section landing on a rim) has none. Compared by a signature,
+    /// the wrapping sum of a multiplicative hash of every pair's index ([`contact_key`]): no
+    /// allocation, two different sets agree only by a 64-bit collision.
+    pub fn contacts_as_in_matrix(&self) -> bool {
+        self.last_sig.get() == self.built_sig.get()
     }
 
     /// Broad phase of block `b` against pulley `k`: whether a section of the element can be

@@ -247,9 +247,10 @@ pub fn scaled_max(dx: &[f64], factor: f64, scales: &[f64]) -> f64 {
 /// Solves `F(x) = 0` by Newton's method. `eval(x, r, jac)` fills the residual and, when
 /// `jac` is given, the iteration matrix for the coefficients `coeffs`; it returns whether a
 /// matrix built earlier still describes this residual (always true when it built one; see
-/// [`MechanicalSystem::kept_matrix_current`]), else the iteration rebuilds it. `increment_factor`
-/// converts an increment of `x` into coordinate units for the convergence test (`β h²` when
-/// `x` is an acceleration). With [`NewtonPolicy::Modified`], a factorization of the same
+/// [`MechanicalSystem::kept_matrix_current`]), else the iteration rebuilds it (after the
+/// backtracking test below has judged the last full-Newton increment by that residual).
+/// `increment_factor` converts an increment of `x` into coordinate units for the convergence
+/// test (`β h²` when `x` is an acceleration). With [`NewtonPolicy::Modified`], a factorization of the same
 /// coefficients from an earlier solve is reused while the iteration contracts fast.
 ///
 /// Damped Newton (backtracking on the residual norm, e.g. Deuflhard, Newton Methods for
@@ -280,16 +281,11 @@ pub fn solve(
     // outcome in the second iteration is recorded in `ws.second_failures`).
     let mut first_fresh = false;
     while it < settings.max_iterations {
-        if fresh {
-            eval(x, &mut ws.r, Some(&mut ws.jac))?;
-        } else if !eval(x, &mut ws.r, None)? {
-            // the kept matrix no longer describes the residual (contact points changed):
-            // evaluate again with a new one
-            fresh = true;
-            last = f64::INFINITY;
-            line = None;
-            continue;
-        }
+        let current = if fresh {
+            eval(x, &mut ws.r, Some(&mut ws.jac))?
+        } else {
+            eval(x, &mut ws.r, None)?
+        };
         // the residual norm only steers the backtracking
         let norm = if settings.line_search {
             ws.r.iter().map(|r| r * r).sum::<f64>().sqrt()
@@ -311,6 +307,14 @@ pub fn solve(
             last *= (alpha - back) / alpha;
             cuts += 1;
             stats.backtracks += 1;
+            continue;
+        }
+        if !current {
+            // the kept matrix no longer describes the residual (contact points changed):
+            // evaluate again with a new one
+            fresh = true;
+            last = f64::INFINITY;
+            line = None;
             continue;
         }
         it += 1;
