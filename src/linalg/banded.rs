@@ -13,7 +13,7 @@
 //! Plain partial pivoting then swaps most rows (357 of 480 for a 120-element belt loop), and
 //! each swap widens `U` from `ku` towards `kl + ku` and the work with it.
 //!
-//! **Panels.** The columns are eliminated in panels of [`PANEL`]; the columns right of a panel
+//! **Panels.** Wide bands are eliminated in panels ([`panel_width`]); the columns right of a panel
 //! take its updates afterwards, four at a time in registers, each entry in the order and with
 //! the roundings of the column-by-column elimination (the factors are the same to the bit: test
 //! `panels_give_the_column_by_column_factors_to_the_bit`). A row interchange first brings the
@@ -50,7 +50,7 @@ pub struct BandedLu {
     /// Whether the last factorization interchanged rows (else the solves skip the pivots).
     swapped: bool,
     /// Columns eliminated together before the columns right of them are updated (see
-    /// [`flush`]): [`PANEL`]; 1 is the column-by-column order of `dgbtf2` (tests compare).
+    /// [`flush`]): [`panel_width`]; 1 is the column-by-column order of `dgbtf2` (tests compare).
     panel: usize,
 }
 
@@ -70,7 +70,7 @@ impl BandedLu {
             ub: kl + ku,
             inv_diag: vec![0.0; n],
             swapped: true,
-            panel: PANEL,
+            panel: panel_width(kl),
         }
     }
 
@@ -186,7 +186,7 @@ impl BandedLu {
                         pivot: self.ab[jj + jp],
                     });
                 }
-                if jp != 0 {
+                if jp != 0 && nb > 1 {
                     // the rows to interchange must hold every update before them in the
                     // columns right of the panel too
                     flush(&mut self.ab, kv, ldab, kl, n, ds..j, pend..ju + 1);
@@ -210,9 +210,11 @@ impl BandedLu {
                     let l: &[f64] = l;
                     // A(j, c) for c = j + 1 + k is at jj + (k + 1)(ldab − 1), i.e. in `tail`
                     // at (k + 1)(ldab − 1) − 1 − km; its column's rows j+1..=j+km follow it.
-                    // Columns of the panel only: the others wait for `flush`.
+                    // Columns of the panel only: the others wait for `flush` (one column
+                    // at a time: every column, as `dgbtf2`).
+                    let reach = if nb > 1 { ju.min(pend - 1) } else { ju };
                     let stride = ldab - 1;
-                    for k in 0..ju.min(pend - 1).saturating_sub(j) {
+                    for k in 0..reach - j {
                         let top = (k + 1) * stride - 1 - km;
                         let u = tail[top];
                         if u != 0.0 {
@@ -221,7 +223,9 @@ impl BandedLu {
                     }
                 }
             }
-            flush(&mut self.ab, kv, ldab, kl, n, ds..pend, pend..ju + 1);
+            if nb > 1 {
+                flush(&mut self.ab, kv, ldab, kl, n, ds..pend, pend..ju + 1);
+            }
             j0 = pend;
         }
         self.ub = ub.min(kv);
@@ -335,12 +339,18 @@ fn scaled_max(a: &[f64], d: &[f64]) -> f64 {
     m[0].max(m[1]).max(m[2].max(m[3]))
 }
 
-/// Columns per panel of the factorization. Each column right of a panel takes the panel's
-/// updates four columns at a time in registers ([`group4`]) instead of one pass per column
-/// (LAPACK `dgbtrf` blocks with work arrays; this keeps the arithmetic of `dgbtf2`). Measured
-/// (random bands, best of 20, `n`, `kl = ku`): 480, 7: 1.27x; 480, 11: 1.19x; 726, 17: 1.17x;
-/// 2880, 75: 1.40x faster than one column at a time; 8 and 16 columns differ by noise.
-const PANEL: usize = 16;
+/// Columns per panel of the factorization for the lower bandwidth `kl`. Each column right of
+/// a panel takes the panel's updates four columns at a time in registers ([`group4`]) instead
+/// of one pass per column (LAPACK `dgbtrf` blocks with work arrays; this keeps the arithmetic
+/// of `dgbtf2`). On full random bands (best of 20, `n`, `kl = ku`) panels of 16 were 1.27x
+/// faster at 480, 7, 1.17x at 726, 17 and 1.40x at 2880, 75; but on the belts' bands, whose
+/// `U` rows hold exact zeros that the column-by-column elimination skips (and that end a group
+/// of four), whole runs were 5-10 % slower (planar belt, 120 elements, `kl` 7; 3D belt, `kl` 17).
+/// Wide bands fill in (the shell's ring-ordered meshes, `kl` ~ 75: 3 % faster level-1 air
+/// spring runs): panels from `kl` = 24 on.
+fn panel_width(kl: usize) -> usize {
+    if kl >= 24 { 16 } else { 1 }
+}
 
 /// The updates of the eliminated columns `ks` (their `L` columns are final) on the columns
 /// `cols` right of the panel, column by column: each column takes them in the order of `ks`,
