@@ -4,6 +4,7 @@
 //! [`model`], assembled from its pulleys (`pulleys.rs`), pre-load (`preload.rs`) and energy book
 //! (`energy.rs`) and the contact point set of [`crate::contact`].
 
+pub mod ale;
 pub mod creep;
 mod energy;
 pub mod model;
@@ -152,10 +153,26 @@ pub struct BeltSection {
     /// Cable integration rule: `"full"` (1), `"reduced"` (2) or `"mixed"` (3).
     #[serde(default = "default_belt_integration")]
     pub integration: Choice,
+    /// Formulation: `"lagrangian"` (1, the mesh moves with the material; default) or `"ale"`
+    /// (2, the mesh stays on the loop's shape and the material flows through it; in progress:
+    /// refused until the model exists).
+    #[serde(
+        default = "default_belt_formulation",
+        skip_serializing_if = "is_default_formulation"
+    )]
+    pub formulation: Choice,
 }
 
 fn default_belt_integration() -> Choice {
     Choice::Name("full".into())
+}
+
+fn default_belt_formulation() -> Choice {
+    Choice::Name("lagrangian".into())
+}
+
+fn is_default_formulation(c: &Choice) -> bool {
+    *c == default_belt_formulation()
 }
 
 /// `[contact]`: belt–pulley contact; stiffness and damping 0 mean "derived from the belt".

@@ -639,6 +639,15 @@ impl BeltDrive {
 
     fn build_with(scene: &BeltDriveScene, p: &ParamValues, preload: bool) -> Result<Self, String> {
         use crate::kinds::belt_drive::scene::{names::*, *};
+        if super::ale::requested(p) {
+            let errs = super::ale::check(scene, p);
+            if !errs.is_empty() {
+                return Err(errs.join("; "));
+            }
+            return Err(format!(
+                "{BELT_FORMULATION} = \"ale\" (2): the axially moving belt model is in progress and not available yet; use \"lagrangian\" (1)"
+            ));
+        }
         let rule = match p.integer(BELT_INTEGRATION) {
             2 => CableRule::Reduced,
             3 => CableRule::Mixed,

@@ -110,6 +110,8 @@ pub mod names {
     pub const BELT_ELEMENT: &str = "belt.element";
     /// Cable integration rule (Integer).
     pub const BELT_INTEGRATION: &str = "belt.integration";
+    /// Formulation (Integer: 1 = Lagrangian, 2 = ALE).
+    pub const BELT_FORMULATION: &str = "belt.formulation";
     /// Friction coefficient [1].
     pub const CONTACT_MU: &str = "contact.mu";
     /// Normal penalty stiffness [N/m2] (0: automatic).
@@ -138,6 +140,8 @@ use names::*;
 pub const BELT_ELEMENTS: &[(&str, i32)] = &[("ancf_cable_2d", 1), ("ancf_shear_2d", 2)];
 /// Cable integration rules (values of `belt.integration`).
 pub const BELT_INTEGRATIONS: &[(&str, i32)] = &[("full", 1), ("reduced", 2), ("mixed", 3)];
+/// Belt formulations (values of `belt.formulation`).
+pub const BELT_FORMULATIONS: &[(&str, i32)] = &[("lagrangian", 1), ("ale", 2)];
 
 macro_rules! pulley_names {
     ($suffix:literal) => {
@@ -431,6 +435,21 @@ pub fn params(s: &BeltDriveScene) -> Result<Vec<ParamDef>, String> {
         ));
     }
     out.extend(gravity_params_2d(s.gravity.as_ref()));
+    // Last of the kind's own parameters, so that the value references before it keep theirs.
+    out.push(ParamDef::new(
+        BELT_FORMULATION,
+        Value::Integer(resolve_choice(
+            BELT_FORMULATION,
+            &b.formulation,
+            BELT_FORMULATIONS,
+        )?),
+        None,
+        &format!(
+            "Belt formulation: {} (lagrangian: the mesh moves with the material; ale: the mesh stays on the loop's shape and the material flows through it at the belt speed, in progress: not yet available)",
+            describe(BELT_FORMULATIONS)
+        ),
+        Check::Choice(BELT_FORMULATIONS),
+    ));
     Ok(out)
 }
 
