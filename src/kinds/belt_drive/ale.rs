@@ -222,9 +222,27 @@ impl AleRing {
     }
 }
 
-/// Where [`AlePoints::contact_into`] puts its tangent: the `(row, col, value)` sink of the
-/// q-block and the `∂/∂v` column.
-pub type ContactTangent<'a> = (&'a mut dyn FnMut(usize, usize, f64), &'a mut [f64]);
+/// Where [`AlePoints::contact_into`] puts its tangent (`np` pulleys, `nq = 4 n`): the q-block
+/// of the q-equations (`elements − contact`), their columns in `v` and in the pulley angles,
+/// and the rows of the pulley torques (the border of the bordered solve). A pulley's `ω`
+/// moves with its angle as `dω/dθ = a_theta` (the integrator's coefficient, `1/h` for
+/// backward Euler).
+pub struct ContactTangent<'a> {
+    /// `(row, col, value)` sink of `−∂F/∂q − a_qd ∂F/∂q̇` (repeated indices to be summed).
+    pub add: &'a mut dyn FnMut(usize, usize, f64),
+    /// `−∂F/∂v` (`nq`; added to).
+    pub dv: &'a mut [f64],
+    /// `dω/dθ` of the pulleys.
+    pub a_theta: f64,
+    /// `−∂F/∂θ_p − a_theta ∂F/∂ω_p`, column-major `nq × np` (added to).
+    pub dtheta: &'a mut [f64],
+    /// `∂τ_p/∂q + a_qd ∂τ_p/∂q̇`, row-major `np × nq` (added to).
+    pub torque_dq: &'a mut [f64],
+    /// `∂τ_p/∂v` (`np`; added to).
+    pub torque_dv: &'a mut [f64],
+    /// `∂τ_p/∂θ_p + a_theta ∂τ_p/∂ω_p` (`np`; added to).
+    pub torque_dtheta: &'a mut [f64],
+}
 
 /// A pulley as the ALE contact sees it in one Newton iteration.
 #[derive(Clone, Copy, Debug)]
@@ -338,9 +356,8 @@ impl AlePoints {
     /// Subtracts the contact forces from the q-equations `r` (`elements − contact`) at mesh
     /// `q`, rates `qd` and belt speed `v`, with the histories of `hist` transported upstream by
     /// `h v` (step `h`); adds the torques on the pulleys to `torque` and writes the points' new
-    /// `(pulley, z, f)` into `trial` (its `q` is left alone). With `tangent = (add, dv)`: calls
-    /// `add(row, col, value)` with `−∂F/∂q − a_qd ∂F/∂q̇` and subtracts `∂F/∂v` from `dv`
-    /// (`∂/∂θ` of the pulleys not yet: the free pulleys' columns are step 3's).
+    /// `(pulley, z, f)` into `trial` (its `q` is left alone). With `tangent`: the derivatives
+    /// of [`ContactTangent`] (q-block, `v` column, pulley-angle columns, torque rows).
     #[allow(clippy::too_many_arguments)]
     pub fn contact_into(
         &self,
@@ -397,19 +414,35 @@ impl AlePoints {
                     r[ia] -= s[a] * pc.force.x;
                     r[ia + 1] -= s[a] * pc.force.y;
                 }
-                if let Some((add, dv)) = tangent.as_mut() {
+                if let Some(t) = tangent.as_mut() {
+                    let nq = ring.n_coords();
                     let kr = pc.k.fixed_view::<2, 2>(0, 0).into_owned();
                     let cv = pc.c.fixed_view::<2, 2>(0, 0).into_owned();
-                    let fv = cv * rpj + history_rate(&pc, &pl.circle, &tr).fixed_rows::<2>(0);
+                    let hr = history_rate(&pc, &pl.circle, &tr);
+                    let fv = cv * rpj + hr.fixed_rows::<2>(0);
+                    // force and torque in the pulley angle (with its speed)
+                    let fth =
+                        pc.k.fixed_view::<2, 1>(0, 2) + t.a_theta * pc.c.fixed_view::<2, 1>(0, 2);
+                    t.torque_dtheta[p] += pc.k[(2, 2)] + t.a_theta * pc.c[(2, 2)];
+                    t.torque_dv[p] += pc.c.fixed_view::<1, 2>(2, 0).dot(&rpj.transpose()) + hr.z;
+                    let (tk, tc) = (
+                        pc.k.fixed_view::<1, 2>(2, 0).into_owned(),
+                        pc.c.fixed_view::<1, 2>(2, 0).into_owned(),
+                    );
                     for a in 0..4 {
                         let ia = ring.index(e, 2 * a);
-                        dv[ia] -= s[a] * fv.x;
-                        dv[ia + 1] -= s[a] * fv.y;
+                        t.dv[ia] -= s[a] * fv.x;
+                        t.dv[ia + 1] -= s[a] * fv.y;
+                        t.dtheta[p * nq + ia] -= s[a] * fth.x;
+                        t.dtheta[p * nq + ia + 1] -= s[a] * fth.y;
+                        let row = s[a] * tk + (a_qd * s[a] + v * d1[a]) * tc;
+                        t.torque_dq[p * nq + ia] += row.x;
+                        t.torque_dq[p * nq + ia + 1] += row.y;
                         for b in 0..4 {
                             let ib = ring.index(e, 2 * b);
                             let blk = s[a] * (s[b] * kr + (a_qd * s[b] + v * d1[b]) * cv);
                             for (x, y) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-                                add(ia + x, ib + y, -blk[(x, y)]);
+                                (t.add)(ia + x, ib + y, -blk[(x, y)]);
                             }
                         }
                     }
@@ -627,12 +660,17 @@ mod tests {
         };
         let mut trial = hist.clone();
         let nq = 4 * n;
-        let eval = |q: &[f64], qd: &[f64], v: f64, trial: &mut AleHistory| {
+        // residual and torque at (q, qd, v) and the pulley turned by dth (its speed by a_th dth)
+        let a_th = 1.0 / h;
+        let eval = |q: &[f64], qd: &[f64], v: f64, dth: f64, trial: &mut AleHistory| {
             let (mut r, mut tq) = (vec![0.0; nq], [0.0]);
+            let mut pl = pulley;
+            pl.theta += dth;
+            pl.omega += a_th * dth;
             pts.contact_into(
                 &ring,
                 &law,
-                &[pulley],
+                &[pl],
                 &hist,
                 (q, qd, v, h, a_qd),
                 &mut r,
@@ -640,10 +678,11 @@ mod tests {
                 trial,
                 None,
             );
-            r
+            (r, tq[0])
         };
         let mut jac = vec![0.0; nq * nq];
-        let mut dv = vec![0.0; nq];
+        let (mut dv, mut dth, mut tdq) = (vec![0.0; nq], vec![0.0; nq], vec![0.0; nq]);
+        let (mut tdv, mut tdth) = ([0.0], [0.0]);
         {
             let (mut r, mut tq) = (vec![0.0; nq], [0.0]);
             let mut add = |i: usize, j: usize, x: f64| jac[i * nq + j] += x;
@@ -656,7 +695,15 @@ mod tests {
                 &mut r,
                 &mut tq,
                 &mut trial,
-                Some((&mut add, &mut dv)),
+                Some(ContactTangent {
+                    add: &mut add,
+                    dv: &mut dv,
+                    a_theta: a_th,
+                    dtheta: &mut dth,
+                    torque_dq: &mut tdq,
+                    torque_dv: &mut tdv,
+                    torque_dtheta: &mut tdth,
+                }),
             );
         }
         assert!(
@@ -664,6 +711,7 @@ mod tests {
             "every point in contact"
         );
         let (mut worst, mut scale) = (0.0f64, 0.0f64);
+        let (mut tworst, mut tscale) = (0.0f64, 0.0f64);
         let hq = 1e-9;
         for c in 0..nq {
             let moved = |x: &[f64], d: f64| {
@@ -671,28 +719,53 @@ mod tests {
                 y[c] += d;
                 y
             };
-            let rp_ = eval(&moved(&q, hq), &moved(&qd, a_qd * hq), v, &mut trial);
-            let rm_ = eval(&moved(&q, -hq), &moved(&qd, -a_qd * hq), v, &mut trial);
+            let (rp_, tp) = eval(&moved(&q, hq), &moved(&qd, a_qd * hq), v, 0.0, &mut trial);
+            let (rm_, tm) = eval(&moved(&q, -hq), &moved(&qd, -a_qd * hq), v, 0.0, &mut trial);
             for i in 0..nq {
                 let fd = (rp_[i] - rm_[i]) / (2.0 * hq);
                 scale = scale.max(fd.abs());
                 worst = worst.max((fd - jac[i * nq + c]).abs());
             }
+            let fd = (tp - tm) / (2.0 * hq);
+            tscale = tscale.max(fd.abs());
+            tworst = tworst.max((fd - tdq[c]).abs());
         }
         assert!(worst < 1e-5 * scale, "q columns: {worst:e} of {scale:e}");
-        let hv = 1e-6;
-        let (rp_, rm_) = (
-            eval(&q, &qd, v + hv, &mut trial),
-            eval(&q, &qd, v - hv, &mut trial),
+        assert!(
+            tworst < 1e-5 * tscale,
+            "torque row: {tworst:e} of {tscale:e}"
         );
-        let sv = dv.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        assert!(sv > 0.0);
-        for i in 0..nq {
-            let fd = (rp_[i] - rm_[i]) / (2.0 * hv);
+        // v and the pulley angle: the q-equations' columns and the torque's entries
+        let hv = 1e-6;
+        let (hth, v_, th_) = (1e-9, [v + hv, v - hv], [1e-9, -1e-9]);
+        for (which, col, tcol, d) in [(0, &dv, tdv[0], hv), (1, &dth, tdth[0], hth)] {
+            let ((rp_, tp), (rm_, tm)) = if which == 0 {
+                (
+                    eval(&q, &qd, v_[0], 0.0, &mut trial),
+                    eval(&q, &qd, v_[1], 0.0, &mut trial),
+                )
+            } else {
+                (
+                    eval(&q, &qd, v, th_[0], &mut trial),
+                    eval(&q, &qd, v, th_[1], &mut trial),
+                )
+            };
+            let sc = col.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            assert!(sc > 0.0);
+            for i in 0..nq {
+                let fd = (rp_[i] - rm_[i]) / (2.0 * d);
+                assert!(
+                    (fd - col[i]).abs() < 1e-5 * sc,
+                    "{}[{i}]: {fd} against {}",
+                    ["d/dv", "d/dtheta"][which],
+                    col[i]
+                );
+            }
+            let fd = (tp - tm) / (2.0 * d);
             assert!(
-                (fd - dv[i]).abs() < 1e-5 * sv,
-                "d/dv[{i}]: {fd} against {}",
-                dv[i]
+                (fd - tcol).abs() < 1e-5 * fd.abs().max(1e-9),
+                "torque {}: {fd} against {tcol}",
+                ["d/dv", "d/dtheta"][which]
             );
         }
     }
@@ -785,6 +858,8 @@ mod tests {
                 );
                 let mut dvc = vec![0.0; nq];
                 let mut tq = [0.0; 2];
+                let (mut dth, mut tdq) = (vec![0.0; 2 * nq], vec![0.0; 2 * nq]);
+                let (mut tdv, mut tdth) = ([0.0; 2], [0.0; 2]);
                 {
                     let mut add = |i: usize, j: usize, x: f64| jac[(i, j)] += x;
                     pts.contact_into(
@@ -796,7 +871,15 @@ mod tests {
                         &mut r[..nq],
                         &mut tq,
                         &mut trial,
-                        Some((&mut add, &mut dvc)),
+                        Some(ContactTangent {
+                            add: &mut add,
+                            dv: &mut dvc,
+                            a_theta: 1.0 / h,
+                            dtheta: &mut dth,
+                            torque_dq: &mut tdq,
+                            torque_dv: &mut tdv,
+                            torque_dtheta: &mut tdth,
+                        }),
                     );
                 }
                 for i in 0..nq {
