@@ -1434,7 +1434,6 @@ impl AirSpringShell {
             ..
         } = cond;
         // the committed friction: stuck points stay stuck
-        main.contact.copy_histories(&self.main.contact);
         full.contact.copy_histories(&self.main.contact);
         st.qw.copy_from_slice(&self.st.q);
         st.vw.fill(0.0);
