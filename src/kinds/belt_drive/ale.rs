@@ -104,9 +104,9 @@ use nalgebra::Vector2;
 #[derive(Clone, Debug)]
 pub struct AleRing {
     n: usize,
-    cable: AncfCable2d,
-    band: AleBand,
-    mass: ElemMat,
+    pub(super) cable: AncfCable2d,
+    pub(super) band: AleBand,
+    pub(super) mass: ElemMat,
 }
 
 impl AleRing {
@@ -127,7 +127,7 @@ impl AleRing {
     }
 
     /// Global index of local coordinate `i` (0..8) of element `e`.
-    fn index(&self, e: usize, i: usize) -> usize {
+    pub(super) fn index(&self, e: usize, i: usize) -> usize {
         if i < 4 {
             4 * e + i
         } else {
@@ -135,7 +135,7 @@ impl AleRing {
         }
     }
 
-    fn gather(&self, x: &[f64], e: usize) -> ElemVec {
+    pub(super) fn gather(&self, x: &[f64], e: usize) -> ElemVec {
         ElemVec::from_fn(|i, _| x[self.index(e, i)])
     }
 
@@ -341,7 +341,12 @@ impl AlePoints {
     }
 
     /// Position and slope of the field `q` of `ring` at mesh position `x` (any, round the loop).
-    fn field_at(&self, ring: &AleRing, q: &[f64], x: f64) -> (Vector2<f64>, Vector2<f64>) {
+    pub(super) fn field_at(
+        &self,
+        ring: &AleRing,
+        q: &[f64],
+        x: f64,
+    ) -> (Vector2<f64>, Vector2<f64>) {
         let total = self.n as f64 * self.l;
         let x = x.rem_euclid(total);
         let e = ((x / self.l) as usize).min(self.n - 1);
@@ -357,7 +362,8 @@ impl AlePoints {
     /// `q`, rates `qd` and belt speed `v`, with the histories of `hist` transported upstream by
     /// `h v` (step `h`); adds the torques on the pulleys to `torque` and writes the points' new
     /// `(pulley, z, f)` into `trial` (its `q` is left alone). With `tangent`: the derivatives
-    /// of [`ContactTangent`] (q-block, `v` column, pulley-angle columns, torque rows).
+    /// of [`ContactTangent`] (q-block, `v` column, pulley-angle columns, torque rows). With
+    /// `forces` (one per pulley, added to): the force of the belt on each pulley [N].
     #[allow(clippy::too_many_arguments)]
     pub fn contact_into(
         &self,
@@ -370,6 +376,7 @@ impl AlePoints {
         torque: &mut [f64],
         trial: &mut AleHistory,
         mut tangent: Option<ContactTangent<'_>>,
+        mut forces: Option<&mut [Vector2<f64>]>,
     ) {
         let (m, w) = (self.len(), self.spacing());
         for j in 0..m {
@@ -409,6 +416,9 @@ impl AlePoints {
                 trial.z[j] = pc.z;
                 trial.f[j] = pc.friction;
                 torque[p] += pc.torque;
+                if let Some(fs) = forces.as_deref_mut() {
+                    fs[p] -= pc.force;
+                }
                 for a in 0..4 {
                     let ia = ring.index(e, 2 * a);
                     r[ia] -= s[a] * pc.force.x;
@@ -677,6 +687,7 @@ mod tests {
                 &mut tq,
                 trial,
                 None,
+                None,
             );
             (r, tq[0])
         };
@@ -704,6 +715,7 @@ mod tests {
                     torque_dv: &mut tdv,
                     torque_dtheta: &mut tdth,
                 }),
+                None,
             );
         }
         assert!(
@@ -891,6 +903,7 @@ mod tests {
                             torque_dv: &mut tdv,
                             torque_dtheta: &mut tdth,
                         }),
+                        None,
                     );
                 }
                 for i in 0..nq {

@@ -5,6 +5,7 @@
 //! (`energy.rs`) and the contact point set of [`crate::contact`].
 
 pub mod ale;
+pub mod ale_drive;
 pub mod creep;
 mod energy;
 pub mod model;
@@ -21,7 +22,7 @@ body_kind! {
     /// The kind (registry entry).
     BeltDriveKind {
         tables: BeltDriveScene,
-        model: BeltDrive,
+        build: |s, p| BeltDrive::build_model(s, p, true),
         name: "belt_drive",
         summary: "closed planar belt over driven and free pulleys with friction contact",
         validation: include_str!("validation.txt"),
@@ -29,7 +30,7 @@ body_kind! {
         presets: |s| scene::presets(s),
         smoke_test: |s| scene::smoke_test(s),
         initial_state: Some("the belt mounted on the pulleys with its pre-tension, after the static pre-load"),
-        build_to_restore: |s, p| Ok(Box::new(BeltDrive::build_to_restore(s, p)?)),
+        build_to_restore: |s, p| BeltDrive::build_model(s, p, false),
         knobs: |s| scene::knobs(s),
     }
 }
