@@ -390,9 +390,8 @@ impl AlePoints {
             trial.z[j] = 0.0;
             trial.f[j] = 0.0;
             let up = upstream(j, m, w, h * v);
+            let (r_up, rp_up) = self.field_at(ring, &hist.q, (up.j0 as f64 + 0.5) * w + up.offset);
             for (p, pl) in pulleys.iter().enumerate() {
-                let (r_up, rp_up) =
-                    self.field_at(ring, &hist.q, (up.j0 as f64 + 0.5) * w + up.offset);
                 let tr = transported_history(
                     &up,
                     (hist.of(up.j0, p), hist.of(up.j1, p)),
