@@ -1,26 +1,20 @@
 //! The axially moving (ALE) belt of the belt-drive kind (`belt.formulation = "ale"`, issue 12
-//! item 2, design note "ale", prototype `scripts/ale_prototype.py`): IN PROGRESS.
-//!
-//! What exists: the parameter `belt.formulation` (`"lagrangian"` = 1, the default, and
-//! `"ale"` = 2) and [`check`], the refusal of the scenes the ALE model will not cover. A scene
-//! that passes [`check`] is still refused by [`BeltDrive::build`](super::model::BeltDrive::build)
-//! until the model exists.
-//!
-//! The model (step 3 of the plan, not written yet), as the prototype measured it:
-//! * unknowns: the ring mesh `q` (cable nodes fixed in space, the loop's shape; `4 n` coordinates)
-//!   and the belt speed `v` (one extra unknown, `s` its integral, `x = X + s`);
-//! * gauge: node 0 is held along its own tangent (one row), since the mesh has a sliding mode
-//!   (moving the nodes along the loop does not change the shape); the equation of `v` is the
-//!   projection of the q-equations on that sliding mode (a separately discretized s-equation
-//!   left a spurious drag of 0.8 N in the prototype);
+//! item 2, design note "ale", prototype `scripts/ale_prototype.py`): its building blocks and
+//! [`check`], the refusal of the scenes the ALE model does not cover. The model that assembles
+//! them is [`super::ale_drive::AleDrive`]:
+//! * unknowns: the ring mesh `q` (cable nodes standing on the loop's shape; `4 n` coordinates),
+//!   the belt travel `s` (`x = X + s`, its rate the belt speed `v`) and the free pulleys' angles;
+//! * gauge: node 0 is held along its own tangent (the row of `s`), since the mesh has a sliding
+//!   mode (moving the nodes along the loop does not change the shape); the equation of `v` is
+//!   the projection of the q-equations on that sliding mode (a separately discretized
+//!   s-equation left a spurious drag of 0.8 N in the prototype);
 //! * residual: elements + `ancf_cable2d::ale_inertia_into` + `AncfCable2d::convective_damping_into`
 //!   − contact at the fixed mesh points, whose friction history is transported from upstream
 //!   (`contact::ale_transport::{upstream, transported_history, history_rate}`), the points
 //!   `m = n · points_per_element` equally spaced by `w = l / points_per_element` round the loop;
-//! * Jacobian: the banded q-block, a dense `v` column and the gauge row: the bordered banded
-//!   solver (`linalg::bordered`);
-//! * FMU state: the Lagrangian state plus `v`, `s` and the committed mesh `q_n` (the history's
-//!   `dir` reads the committed field upstream).
+//! * Jacobian: the banded q-block, the dense columns of `s` and the free pulleys, the gauge
+//!   and pulley rows: the bordered banded solver (`linalg::bordered`);
+//! * FMU state: `s`, `v`, the committed mesh and the points' histories (see `AleDrive::save`).
 
 use super::BeltDriveScene;
 use super::PulleySide;

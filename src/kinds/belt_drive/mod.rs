@@ -155,8 +155,8 @@ pub struct BeltSection {
     #[serde(default = "default_belt_integration")]
     pub integration: Choice,
     /// Formulation: `"lagrangian"` (1, the mesh moves with the material; default) or `"ale"`
-    /// (2, the mesh stays on the loop's shape and the material flows through it; in progress:
-    /// refused until the model exists).
+    /// (2, the mesh stays on the loop's shape and the material flows through it:
+    /// [`ale_drive::AleDrive`]; scenes outside its scope are refused, see [`ale::check`]).
     #[serde(
         default = "default_belt_formulation",
         skip_serializing_if = "is_default_formulation"

@@ -445,7 +445,7 @@ pub fn params(s: &BeltDriveScene) -> Result<Vec<ParamDef>, String> {
         )?),
         None,
         &format!(
-            "Belt formulation: {} (lagrangian: the mesh moves with the material; ale: the mesh stays on the loop's shape and the material flows through it at the belt speed, in progress: not yet available)",
+            "Belt formulation: {} (lagrangian: the mesh moves with the material; ale: the mesh stays on the loop's shape and the material flows through it at the belt speed; closed cable belt on front-side pulleys without tensioner, gravity or bending damping)",
             describe(BELT_FORMULATIONS)
         ),
         Check::Choice(BELT_FORMULATIONS),
@@ -582,20 +582,20 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
     belt(
         "belt.speed".into(),
         Unit::MPerS,
-        "Mean speed of the belt nodes",
+        "Mean speed of the belt nodes (ale: of the material at the mesh nodes)",
         BeltOutput::Speed,
     );
     for k in 0..belt_points(s) {
         belt(
             format!("belt.point[{}].x", k + 1),
             Unit::M,
-            "Belt centre-line point at an equally spaced material position, x",
+            "Belt centre-line point at an equally spaced material position, x (ale: at an equally spaced mesh position, fixed on the loop)",
             BeltOutput::PointX(k),
         );
         belt(
             format!("belt.point[{}].y", k + 1),
             Unit::M,
-            "Belt centre-line point at an equally spaced material position, y",
+            "Belt centre-line point at an equally spaced material position, y (ale: at an equally spaced mesh position, fixed on the loop)",
             BeltOutput::PointY(k),
         );
     }
@@ -610,7 +610,7 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
                 ),
                 (
                     EnergyKind::Strain,
-                    "Strain energy of the belt plus the elastic energy of the contact penalty",
+                    "Strain energy of the belt plus the elastic energy of the contact penalty (ale: the belt's only)",
                 ),
                 (
                     EnergyKind::Potential,
@@ -629,7 +629,7 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
         );
         belt(
             "energy.dissipated",
-            "Energy dissipated since the start by contact damping, friction (including the bristle energy), material and bearing damping",
+            "Energy dissipated since the start by contact damping, friction (including the bristle energy), material and bearing damping (ale: not booked, 0)",
             BeltOutput::Dissipated,
         );
     }
