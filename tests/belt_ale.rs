@@ -97,7 +97,7 @@ fn the_ale_belt_refuses_tensioner_back_side_idlers_and_gravity() {
 }
 
 #[test]
-fn the_ale_belt_refuses_the_shear_element_and_bending_damping() {
+fn the_ale_belt_refuses_the_shear_element_bending_damping_and_other_integrators() {
     let text = with_belt_key("belt_drive.toml", "formulation = \"ale\"")
         .replace("damping_bending = 0.0", "damping_bending = 0.001");
     let err = build(&text).err().unwrap();
@@ -107,6 +107,22 @@ fn the_ale_belt_refuses_the_shear_element_and_bending_damping() {
         .replace("damping_axial = 20.0", "damping_axial = 0.0");
     let err = build(&text).err().unwrap();
     assert!(err.contains("belt.element"), "{err}");
+    let text = with_belt_key("belt_drive.toml", "formulation = \"ale\"").replace(
+        "integrator = \"generalized_alpha\"",
+        "integrator = \"midpoint\"",
+    );
+    let err = build(&text).err().unwrap();
+    assert!(err.contains("solver.integrator"), "{err}");
+    let text = with_belt_key("belt_drive.toml", "formulation = \"ale\"").replace(
+        "integrator = \"generalized_alpha\"",
+        "integrator = \"newmark\"",
+    );
+    assert!(
+        Run::new(&text)
+            .sim
+            .model_as::<flexfmu::kinds::belt_drive::ale_drive::AleDrive>()
+            .is_some()
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -20,7 +20,7 @@ use super::BeltDriveScene;
 use super::PulleySide;
 use super::scene::names::{BELT_DAMPING_BENDING, BELT_ELEMENT, BELT_FORMULATION};
 use crate::scene::ParamValues;
-use crate::scene::params::names::{GRAVITY_X, GRAVITY_Y};
+use crate::scene::params::names::{GRAVITY_X, GRAVITY_Y, SOLVER_INTEGRATOR};
 use crate::variables::Value;
 
 /// Code of `belt.formulation = "ale"`.
@@ -33,7 +33,8 @@ pub fn requested(p: &ParamValues) -> bool {
 
 /// The reasons the ALE belt cannot model this scene with these parameters, each naming the key
 /// (empty: the scene is within the ALE model's scope). The scope is the prototype's: a closed
-/// cable belt on front-side pulleys, no tensioner, no gravity, no bending damping (the
+/// cable belt on front-side pulleys, no tensioner, no gravity, an implicit integrator
+/// (generalized-α or Newmark), no bending damping (the
 /// convective rate of the bending damping is not in the kernel), contact points equally spaced
 /// round the loop (the history transport interpolates between neighbours spaced by `w`; the
 /// belt-drive kind places `contact.points_per_element` points equally spaced in equal
@@ -68,6 +69,13 @@ pub fn check(scene: &BeltDriveScene, p: &ParamValues) -> Vec<String> {
     {
         errs.push(format!(
             "{BELT_ELEMENT} = {e}: {why} needs the ANCF cable (1); the shear element has no ALE terms"
+        ));
+    }
+    if let Some(Value::Integer(i)) = p.get(SOLVER_INTEGRATOR)
+        && !matches!(i, 1 | 2)
+    {
+        errs.push(format!(
+            "{SOLVER_INTEGRATOR} = {i}: {why} needs \"generalized_alpha\" (1) or \"newmark\" (2) (its midpoint, explicit and quasi-static forms are not written)"
         ));
     }
     if let Some(Value::Real(d)) = p.get(BELT_DAMPING_BENDING)

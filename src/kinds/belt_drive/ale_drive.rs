@@ -727,7 +727,8 @@ impl MechanicalSystem for AleDrive {
         }
     }
 
-    /// Not supported: the midpoint rule's average configuration has no ALE form here.
+    /// Not supported (refused at build, see `ale::check`): the midpoint rule's average
+    /// configuration has no ALE form here.
     fn midpoint_residual(
         &mut self,
         _t_a: f64,
