@@ -381,6 +381,21 @@ impl AlePoints {
         mut forces: Option<&mut [Vector2<f64>]>,
     ) {
         let (m, w) = (self.len(), self.spacing());
+        // Every point's upstream position lies the same distance `h v` back, so its place in
+        // the element (slot `j0 mod ppe` plus the common offset) takes at most `ppe` values:
+        // their shape functions once per call (up to 8 points per element; points whose
+        // offset differs from the common one by more than round-off use `field_at`).
+        let up0 = upstream(0, m, w, h * v);
+        let mut slots = [(0usize, [0.0; 4], [0.0; 4]); 8];
+        let cached = self.ppe <= slots.len();
+        if cached {
+            for (i, slot) in slots.iter_mut().enumerate().take(self.ppe) {
+                let x = (i as f64 + 0.5) * w + up0.offset;
+                let de = (x / self.l).floor().max(0.0) as usize;
+                let xl = x - de as f64 * self.l;
+                *slot = (de, shape_functions(self.l, xl), shape_d1(self.l, xl));
+            }
+        }
         for j in 0..m {
             let (e, i) = (j / self.ppe, j % self.ppe);
             let (s, d1) = &self.shape[i];
@@ -392,7 +407,13 @@ impl AlePoints {
             trial.z[j] = 0.0;
             trial.f[j] = 0.0;
             let up = upstream(j, m, w, h * v);
-            let (r_up, rp_up) = self.field_at(ring, &hist.q, (up.j0 as f64 + 0.5) * w + up.offset);
+            let (r_up, rp_up) = if cached && (up.offset - up0.offset).abs() <= 1e-12 * w {
+                let (de, su, du) = &slots[up.j0 % self.ppe];
+                let qu = ring.gather(&hist.q, (up.j0 / self.ppe + de) % self.n);
+                (combine(su, &qu), combine(du, &qu))
+            } else {
+                self.field_at(ring, &hist.q, (up.j0 as f64 + 0.5) * w + up.offset)
+            };
             for (p, pl) in pulleys.iter().enumerate() {
                 let tr = transported_history(
                     &up,
