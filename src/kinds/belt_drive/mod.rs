@@ -4,6 +4,8 @@
 //! [`model`], assembled from its pulleys (`pulleys.rs`), pre-load (`preload.rs`) and energy book
 //! (`energy.rs`) and the contact point set of [`crate::contact`].
 
+pub mod ale;
+pub mod ale_drive;
 pub mod creep;
 mod energy;
 pub mod model;
@@ -20,7 +22,7 @@ body_kind! {
     /// The kind (registry entry).
     BeltDriveKind {
         tables: BeltDriveScene,
-        model: BeltDrive,
+        build: |s, p| BeltDrive::build_model(s, p, true),
         name: "belt_drive",
         summary: "closed planar belt over driven and free pulleys with friction contact",
         validation: include_str!("validation.txt"),
@@ -28,7 +30,7 @@ body_kind! {
         presets: |s| scene::presets(s),
         smoke_test: |s| scene::smoke_test(s),
         initial_state: Some("the belt mounted on the pulleys with its pre-tension, after the static pre-load"),
-        build_to_restore: |s, p| Ok(Box::new(BeltDrive::build_to_restore(s, p)?)),
+        build_to_restore: |s, p| BeltDrive::build_model(s, p, false),
         knobs: |s| scene::knobs(s),
     }
 }
@@ -152,10 +154,26 @@ pub struct BeltSection {
     /// Cable integration rule: `"full"` (1), `"reduced"` (2) or `"mixed"` (3).
     #[serde(default = "default_belt_integration")]
     pub integration: Choice,
+    /// Formulation: `"lagrangian"` (1, the mesh moves with the material; default) or `"ale"`
+    /// (2, the mesh stays on the loop's shape and the material flows through it:
+    /// [`ale_drive::AleDrive`]; scenes outside its scope are refused, see [`ale::check`]).
+    #[serde(
+        default = "default_belt_formulation",
+        skip_serializing_if = "is_default_formulation"
+    )]
+    pub formulation: Choice,
 }
 
 fn default_belt_integration() -> Choice {
     Choice::Name("full".into())
+}
+
+fn default_belt_formulation() -> Choice {
+    Choice::Name("lagrangian".into())
+}
+
+fn is_default_formulation(c: &Choice) -> bool {
+    *c == default_belt_formulation()
 }
 
 /// `[contact]`: belt–pulley contact; stiffness and damping 0 mean "derived from the belt".

@@ -638,6 +638,50 @@ impl BeltDrive {
     }
 
     fn build_with(scene: &BeltDriveScene, p: &ParamValues, preload: bool) -> Result<Self, String> {
+        use crate::kinds::belt_drive::scene::names::BELT_FORMULATION;
+        if super::ale::requested(p) {
+            let errs = super::ale::check(scene, p);
+            if !errs.is_empty() {
+                return Err(errs.join("; "));
+            }
+            return Err(format!(
+                "{BELT_FORMULATION} = \"ale\" (2): `BeltDrive` is the Lagrangian model; the ALE drive is `AleDrive` (built by the kind, see `build_model`)"
+            ));
+        }
+        Self::build_lagrangian(scene, p, preload)
+    }
+
+    /// The model of a belt-drive scene as the kind builds it: the Lagrangian [`BeltDrive`], or
+    /// with `belt.formulation = "ale"` the [`AleDrive`](super::ale_drive::AleDrive) mounted on
+    /// the Lagrangian drive's pre-load (refused, naming the keys, outside the ALE scope).
+    /// `preload` false: for a model about to receive a saved state.
+    pub fn build_model(
+        scene: &BeltDriveScene,
+        p: &ParamValues,
+        preload: bool,
+    ) -> Result<Box<dyn Model>, String> {
+        use crate::kinds::belt_drive::scene::names::BELT_INTEGRATION;
+        if !super::ale::requested(p) {
+            return Ok(Box::new(Self::build_with(scene, p, preload)?));
+        }
+        let errs = super::ale::check(scene, p);
+        if !errs.is_empty() {
+            return Err(errs.join("; "));
+        }
+        let rule = match p.integer(BELT_INTEGRATION) {
+            2 => CableRule::Reduced,
+            3 => CableRule::Mixed,
+            _ => CableRule::Full,
+        };
+        let base = Self::build_lagrangian(scene, p, preload)?;
+        Ok(Box::new(super::ale_drive::AleDrive::mount(base, rule)?))
+    }
+
+    fn build_lagrangian(
+        scene: &BeltDriveScene,
+        p: &ParamValues,
+        preload: bool,
+    ) -> Result<Self, String> {
         use crate::kinds::belt_drive::scene::{names::*, *};
         let rule = match p.integer(BELT_INTEGRATION) {
             2 => CableRule::Reduced,
@@ -1025,7 +1069,7 @@ impl BeltDrive {
     /// step (backward difference, first order): pulley torques and forces, span tensions, the
     /// contact part of the strain energy and the dissipated energy, which depend on the
     /// friction history; `None` before the first step.
-    fn output_rate(&self, kind: Output) -> Option<f64> {
+    pub(super) fn output_rate(&self, kind: Output) -> Option<f64> {
         let along = |f: &dyn Fn(&[f64], &[f64]) -> f64| {
             let mut work = [Vec::new(), Vec::new()];
             rates::along_motion(&self.q, &self.v, &self.acc, &mut work, f)

@@ -110,6 +110,8 @@ pub mod names {
     pub const BELT_ELEMENT: &str = "belt.element";
     /// Cable integration rule (Integer).
     pub const BELT_INTEGRATION: &str = "belt.integration";
+    /// Formulation (Integer: 1 = Lagrangian, 2 = ALE).
+    pub const BELT_FORMULATION: &str = "belt.formulation";
     /// Friction coefficient [1].
     pub const CONTACT_MU: &str = "contact.mu";
     /// Normal penalty stiffness [N/m2] (0: automatic).
@@ -138,6 +140,8 @@ use names::*;
 pub const BELT_ELEMENTS: &[(&str, i32)] = &[("ancf_cable_2d", 1), ("ancf_shear_2d", 2)];
 /// Cable integration rules (values of `belt.integration`).
 pub const BELT_INTEGRATIONS: &[(&str, i32)] = &[("full", 1), ("reduced", 2), ("mixed", 3)];
+/// Belt formulations (values of `belt.formulation`).
+pub const BELT_FORMULATIONS: &[(&str, i32)] = &[("lagrangian", 1), ("ale", 2)];
 
 macro_rules! pulley_names {
     ($suffix:literal) => {
@@ -431,6 +435,21 @@ pub fn params(s: &BeltDriveScene) -> Result<Vec<ParamDef>, String> {
         ));
     }
     out.extend(gravity_params_2d(s.gravity.as_ref()));
+    // Last of the kind's own parameters, so that the value references before it keep theirs.
+    out.push(ParamDef::new(
+        BELT_FORMULATION,
+        Value::Integer(resolve_choice(
+            BELT_FORMULATION,
+            &b.formulation,
+            BELT_FORMULATIONS,
+        )?),
+        None,
+        &format!(
+            "Belt formulation: {} (lagrangian: the mesh moves with the material; ale: the mesh stays on the loop's shape and the material flows through it at the belt speed; closed cable belt on front-side pulleys without tensioner, gravity or bending damping)",
+            describe(BELT_FORMULATIONS)
+        ),
+        Check::Choice(BELT_FORMULATIONS),
+    ));
     Ok(out)
 }
 
@@ -563,20 +582,20 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
     belt(
         "belt.speed".into(),
         Unit::MPerS,
-        "Mean speed of the belt nodes",
+        "Mean speed of the belt nodes (ale: of the material at the mesh nodes)",
         BeltOutput::Speed,
     );
     for k in 0..belt_points(s) {
         belt(
             format!("belt.point[{}].x", k + 1),
             Unit::M,
-            "Belt centre-line point at an equally spaced material position, x",
+            "Belt centre-line point at an equally spaced material position, x (ale: at an equally spaced mesh position, fixed on the loop)",
             BeltOutput::PointX(k),
         );
         belt(
             format!("belt.point[{}].y", k + 1),
             Unit::M,
-            "Belt centre-line point at an equally spaced material position, y",
+            "Belt centre-line point at an equally spaced material position, y (ale: at an equally spaced mesh position, fixed on the loop)",
             BeltOutput::PointY(k),
         );
     }
@@ -591,7 +610,7 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
                 ),
                 (
                     EnergyKind::Strain,
-                    "Strain energy of the belt plus the elastic energy of the contact penalty",
+                    "Strain energy of the belt plus the elastic energy of the contact penalty (ale: the belt's only)",
                 ),
                 (
                     EnergyKind::Potential,
@@ -610,7 +629,7 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
         );
         belt(
             "energy.dissipated",
-            "Energy dissipated since the start by contact damping, friction (including the bristle energy), material and bearing damping",
+            "Energy dissipated since the start by contact damping, friction (including the bristle energy), material and bearing damping (ale: not booked, 0)",
             BeltOutput::Dissipated,
         );
     }

@@ -1,0 +1,370 @@
+//! The axially moving (ALE) belt of the belt-drive kind (`belt.formulation`, issue 12 item 2):
+//! the parameter (default Lagrangian, the scenes' other parameters unchanged), the refusals of
+//! the scenes outside the ALE model's scope, each naming its key, and the model
+//! (`src/kinds/belt_drive/ale_drive.rs`) through `Simulation` as the FMU runs it: steady
+//! running at 60 rad/s (stiff belt at 10 N m, soft belt at 20 N m) against the Lagrangian
+//! drive run the same way (span tensions and pulley 2's speed within 0.5 %), its torque
+//! balance, its creep against Grashof, and the FMU state's round trip.
+
+use flexfmu::kinds::belt_drive::BeltDriveScene;
+use flexfmu::kinds::belt_drive::model::BeltDrive;
+use flexfmu::scene::{ParamValues, Scene};
+use flexfmu::variables::Value;
+
+fn scene_text(name: &str) -> String {
+    std::fs::read_to_string(format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+/// The scene `name` with `key = value` added at the end of its `[belt]` table.
+fn with_belt_key(name: &str, line: &str) -> String {
+    let text = scene_text(name);
+    let at = text.find("[belt]").unwrap() + "[belt]".len();
+    format!("{}\n{line}{}", &text[..at], &text[at..])
+}
+
+fn build(text: &str) -> Result<BeltDrive, String> {
+    let scene = Scene::from_toml(text).map_err(|e| e.0)?;
+    let tables: &BeltDriveScene = scene.tables().unwrap();
+    let p = ParamValues::defaults(&scene.params);
+    BeltDrive::build(tables, &p)
+}
+
+fn formulation(text: &str) -> Option<Value> {
+    let scene = Scene::from_toml(text).unwrap();
+    ParamValues::defaults(&scene.params).get("belt.formulation")
+}
+
+#[test]
+fn the_formulation_defaults_to_lagrangian_and_takes_names_and_codes() {
+    let plain = scene_text("belt_drive.toml");
+    assert_eq!(formulation(&plain), Some(Value::Integer(1)));
+    let named = with_belt_key("belt_drive.toml", "formulation = \"lagrangian\"");
+    assert_eq!(formulation(&named), Some(Value::Integer(1)));
+    let coded = with_belt_key("belt_drive.toml", "formulation = 2");
+    assert_eq!(formulation(&coded), Some(Value::Integer(2)));
+    let wrong = with_belt_key("belt_drive.toml", "formulation = \"eulerian\"");
+    let err = Scene::from_toml(&wrong).err().unwrap().0;
+    assert!(err.contains("belt.formulation"), "{err}");
+    assert!(err.contains("\"ale\" (2)"), "{err}");
+}
+
+#[test]
+fn an_explicit_lagrangian_formulation_builds_the_same_drive() {
+    use flexfmu::model::Model;
+    use flexfmu::snapshot::StateWriter;
+    let save = |m: &BeltDrive| {
+        let mut w = StateWriter::new();
+        m.save(&mut w).unwrap();
+        w.bytes().to_vec()
+    };
+    let a = build(&scene_text("belt_drive.toml")).unwrap();
+    let b = build(&with_belt_key(
+        "belt_drive.toml",
+        "formulation = \"lagrangian\"",
+    ))
+    .unwrap();
+    assert_eq!(save(&a), save(&b));
+}
+
+/// In its scope the kind builds the ALE model (`AleDrive`); `BeltDrive::build`, the
+/// Lagrangian model's own constructor, refuses the ALE formulation and says where it is.
+#[test]
+fn the_ale_belt_in_its_scope_is_built_by_the_kind_as_ale_drive() {
+    use flexfmu::kinds::belt_drive::ale_drive::AleDrive;
+    let text = with_belt_key("belt_drive.toml", "formulation = \"ale\"");
+    let err = build(&text).err().unwrap();
+    assert!(err.contains("AleDrive"), "{err}");
+    let run = Run::new(&text);
+    assert!(run.sim.model_as::<AleDrive>().is_some());
+    assert!(run.sim.model_as::<BeltDrive>().is_none());
+    let lag = Run::new(&scene_text("belt_drive.toml"));
+    assert!(lag.sim.model_as::<BeltDrive>().is_some());
+}
+
+#[test]
+fn the_ale_belt_refuses_tensioner_back_side_idlers_and_gravity() {
+    let err = build(&with_belt_key("serpentine.toml", "formulation = \"ale\""))
+        .err()
+        .unwrap();
+    assert!(err.contains("[tensioner]"), "{err}");
+    assert!(err.contains("side = \"back\""), "{err}");
+    assert!(!err.contains("AleDrive"), "{err}");
+    let mut text = with_belt_key("belt_drive.toml", "formulation = \"ale\"");
+    text.push_str("\n[gravity]\nx = 0.0\ny = -9.81\n");
+    let err = build(&text).err().unwrap();
+    assert!(err.contains("gravity.y"), "{err}");
+    assert!(!err.contains("gravity.x"), "{err}");
+}
+
+#[test]
+fn the_ale_belt_refuses_the_shear_element_bending_damping_and_other_integrators() {
+    let text = with_belt_key("belt_drive.toml", "formulation = \"ale\"")
+        .replace("damping_bending = 0.0", "damping_bending = 0.001");
+    let err = build(&text).err().unwrap();
+    assert!(err.contains("belt.damping_bending"), "{err}");
+    let text = with_belt_key("belt_drive.toml", "formulation = \"ale\"")
+        .replace("type = \"ancf_cable_2d\"", "type = \"ancf_shear_2d\"")
+        .replace("damping_axial = 20.0", "damping_axial = 0.0");
+    let err = build(&text).err().unwrap();
+    assert!(err.contains("belt.element"), "{err}");
+    let text = with_belt_key("belt_drive.toml", "formulation = \"ale\"").replace(
+        "integrator = \"generalized_alpha\"",
+        "integrator = \"midpoint\"",
+    );
+    let err = build(&text).err().unwrap();
+    assert!(err.contains("solver.integrator"), "{err}");
+    let text = with_belt_key("belt_drive.toml", "formulation = \"ale\"").replace(
+        "integrator = \"generalized_alpha\"",
+        "integrator = \"newmark\"",
+    );
+    assert!(
+        Run::new(&text)
+            .sim
+            .model_as::<flexfmu::kinds::belt_drive::ale_drive::AleDrive>()
+            .is_some()
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// The ALE model through `Simulation` (the path the FMU takes), against the Lagrangian drive.
+
+use flexfmu::model::build_model;
+use flexfmu::solver::simulation::{Simulation, SolverConfig};
+use flexfmu::variables::Causality;
+
+/// A simulation of scene text `text` (default parameters) and the index of each named input
+/// and output.
+struct Run {
+    sim: Simulation,
+    inputs: Vec<String>,
+    outputs: Vec<String>,
+}
+
+impl Run {
+    fn new(text: &str) -> Self {
+        let scene = Scene::from_toml(text).map_err(|e| e.0).unwrap();
+        let p = ParamValues::defaults(&scene.params);
+        let model = build_model(&scene, &p).unwrap();
+        let names = |c: Causality| {
+            scene
+                .io
+                .iter()
+                .filter(|v| v.causality == c)
+                .map(|v| v.name.clone())
+                .collect()
+        };
+        let mut sim = Simulation::new(model, SolverConfig::from_params(&p), 0.0).unwrap();
+        sim.initialize().unwrap();
+        Self {
+            sim,
+            inputs: names(Causality::Input),
+            outputs: names(Causality::Output),
+        }
+    }
+
+    fn set(&mut self, name: &str, value: f64) {
+        let i = self.inputs.iter().position(|n| n == name).unwrap();
+        self.sim.set_input(i, value);
+    }
+
+    fn out(&self, name: &str) -> f64 {
+        let i = self.outputs.iter().position(|n| n == name).unwrap();
+        self.sim.output(i)
+    }
+
+    /// The 60 rad/s protocol: pulley 1 ramped to `omega` and the load on pulley 2 to `load`
+    /// over 0.3 s, communication step 1 ms, up to `t_end`; returns the means over the last
+    /// 0.2 s of T1, T2 (tight, slack span), omega2 and pulley 1's torque.
+    fn steady(&mut self, omega: f64, load: f64, t_end: f64) -> [f64; 4] {
+        let h = 1e-3;
+        let n = (t_end / h).round() as usize;
+        let (mut angle, mut sum, mut k) = (0.0, [0.0; 4], 0);
+        for i in 0..n {
+            let t = i as f64 * h;
+            let ramp = |t: f64| (t / 0.3).min(1.0);
+            let w = 0.5 * omega * (ramp(t) + ramp(t + h));
+            self.set("pulley1.angle", angle);
+            self.set("pulley1.omega", w);
+            self.set("pulley2.torque_in", -load * ramp(t));
+            self.sim
+                .advance(t + h)
+                .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
+            angle += w * h;
+            if t + h > t_end - 0.2 + 1e-9 {
+                let o = [
+                    self.out("belt.tension_tight"),
+                    self.out("belt.tension_slack"),
+                    self.out("pulley2.omega"),
+                    self.out("pulley1.torque"),
+                ];
+                for j in 0..4 {
+                    sum[j] += o[j];
+                }
+                k += 1;
+            }
+        }
+        sum.map(|s| s / k as f64)
+    }
+}
+
+fn ale_text() -> String {
+    with_belt_key("belt_drive.toml", "formulation = \"ale\"")
+}
+
+fn with_belt_key_in(text: &str, line: &str) -> String {
+    let at = text.find("[belt]").unwrap() + "[belt]".len();
+    format!("{}\n{line}{}", &text[..at], &text[at..])
+}
+
+/// The soft belt of issue 12 (EA 8000 N, pre-tension 400 N, μ 0.5, 120 elements) on the
+/// shipped two-pulley drive.
+fn soft_belt() -> String {
+    scene_text("belt_drive.toml")
+        .replace("EA = 5.0e4", "EA = 8000.0")
+        .replace("pretension = 300.0", "pretension = 400.0")
+        .replace("n_elements = 100", "n_elements = 120")
+        .replace("mu = 0.4", "mu = 0.5")
+}
+
+/// Steady running at 60 rad/s with the load `load` on pulley 2: the ALE drive's span tensions
+/// and pulley 2's speed against the Lagrangian drive of the same scene run the same way
+/// (within 0.5 %); its torque balance `(T1 − T2) ρ1` against pulley 1's torque and its creep
+/// against Grashof's `(EA + T2)/(EA + T1)`.
+fn steady_against_lagrangian(text: &str, load: f64, ea: f64, rho: [f64; 2]) {
+    let t_end = 1.0;
+    let ale_scene = with_belt_key_in(text, "formulation = \"ale\"");
+    let ale = Run::new(&ale_scene).steady(60.0, load, t_end);
+    let lag = Run::new(text).steady(60.0, load, t_end);
+    eprintln!("load {load}: ALE T1 T2 omega2 tau1 {ale:?}, Lagrangian {lag:?}");
+    for (j, what) in ["T1", "T2", "omega2"].iter().enumerate() {
+        let rel = ale[j] / lag[j] - 1.0;
+        assert!(
+            rel.abs() < 5e-3,
+            "{what}: ALE {} against Lagrangian {} ({:+.3} %)",
+            ale[j],
+            lag[j],
+            100.0 * rel
+        );
+    }
+    let balance = (ale[0] - ale[1]) * rho[0] / ale[3].abs();
+    assert!(
+        (balance - 1.0).abs() < 1e-2,
+        "(T1 - T2) rho1 / tau1 = {balance}"
+    );
+    let creep_err = |o: &[f64; 4]| {
+        let grashof = (ea + o[1]) / (ea + o[0]);
+        let ratio = o[2] * rho[1] / (60.0 * rho[0]);
+        (1.0 - ratio) / (1.0 - grashof) - 1.0
+    };
+    let (ca, cl) = (creep_err(&ale), creep_err(&lag));
+    eprintln!(
+        "creep against Grashof: ALE {:+.2} %, Lagrangian {:+.2} %",
+        100.0 * ca,
+        100.0 * cl
+    );
+    assert!(ca.abs() < 0.05, "creep {ca:+.3} off Grashof");
+}
+
+#[test]
+fn ale_steady_running_at_10_n_m_matches_the_lagrangian_drive() {
+    let text = scene_text("belt_drive.toml");
+    steady_against_lagrangian(&text, 10.0, 5e4, [0.082, 0.122]);
+}
+
+#[test]
+fn ale_soft_belt_at_20_n_m_matches_the_lagrangian_drive() {
+    let text = soft_belt();
+    assert!(text.contains("EA = 8000.0") && text.contains("n_elements = 120"));
+    steady_against_lagrangian(&text, 20.0, 8000.0, [0.082, 0.122]);
+}
+
+/// The state of a running ALE drive saved, restored into a model built to restore (no
+/// pre-load) and both advanced by 20 steps: the same bytes (and the restored model is not the
+/// same before the restore).
+#[test]
+fn ale_state_round_trip_through_simulation() {
+    use flexfmu::model::build_model_to_restore;
+    use flexfmu::snapshot::{StateReader, StateWriter};
+    let text = ale_text();
+    let mut a = Run::new(&text);
+    a.steady(60.0, 10.0, 0.35);
+    let mut w = StateWriter::new();
+    a.sim.save(&mut w).unwrap();
+    let state = w.bytes().to_vec();
+    let scene = Scene::from_toml(&text).map_err(|e| e.0).unwrap();
+    let p = ParamValues::defaults(&scene.params);
+    let model = build_model_to_restore(&scene, &p).unwrap();
+    let mut sim = Simulation::new(model, SolverConfig::from_params(&p), 0.0).unwrap();
+    let mut w0 = StateWriter::new();
+    sim.save(&mut w0).unwrap();
+    assert_ne!(
+        w0.bytes(),
+        &state[..],
+        "a fresh model has the saved state already"
+    );
+    let mut r = StateReader::new(&state);
+    sim.restore(&mut r).unwrap();
+    assert!(r.finished());
+    let mut b = Run {
+        sim,
+        inputs: a.inputs.clone(),
+        outputs: a.outputs.clone(),
+    };
+    let mut w1 = StateWriter::new();
+    b.sim.save(&mut w1).unwrap();
+    assert_eq!(w1.bytes(), &state[..], "restore then save");
+    for run in [&mut a, &mut b] {
+        let mut t = 0.35;
+        for _ in 0..20 {
+            run.set("pulley1.omega", 60.0);
+            run.set("pulley2.torque_in", -10.0);
+            run.sim.advance(t + 1e-3).unwrap();
+            t += 1e-3;
+        }
+    }
+    let (mut wa, mut wb) = (StateWriter::new(), StateWriter::new());
+    a.sim.save(&mut wa).unwrap();
+    b.sim.save(&mut wb).unwrap();
+    assert_eq!(
+        wa.bytes(),
+        wb.bytes(),
+        "the states 20 steps after the restore differ"
+    );
+    assert_eq!(a.out("belt.tension_tight"), b.out("belt.tension_tight"));
+}
+
+/// `belt_drive_inertia.toml` (both pulleys free: pulley 1 driven by a motor torque ramped to
+/// 4 N m over 0.3 s, pulley 2 loaded by its bearing damping only) after 1 s, as the ALE and the
+/// Lagrangian drive run it: both pulleys' speeds and the span tensions within 0.5 %.
+#[test]
+fn ale_drive_with_two_free_pulleys_matches_the_lagrangian_drive() {
+    let run = |text: &str| {
+        let mut r = Run::new(text);
+        let h = 1e-3;
+        for i in 0..1000 {
+            let t = i as f64 * h;
+            r.set("pulley1.torque_in", 4.0 * (t / 0.3).min(1.0));
+            r.set("pulley2.torque_in", 0.0);
+            r.sim.advance(t + h).unwrap();
+        }
+        [
+            r.out("pulley1.omega"),
+            r.out("pulley2.omega"),
+            r.out("belt.tension_tight"),
+            r.out("belt.tension_slack"),
+        ]
+    };
+    let text = scene_text("belt_drive_inertia.toml");
+    let lag = run(&text);
+    let ale = run(&with_belt_key_in(&text, "formulation = \"ale\""));
+    eprintln!("omega1 omega2 T1 T2: ALE {ale:?}, Lagrangian {lag:?}");
+    assert!(lag[1] > 10.0, "the drive runs: {lag:?}");
+    for j in 0..4 {
+        assert!(
+            (ale[j] / lag[j] - 1.0).abs() < 5e-3,
+            "{j}: ALE {} against Lagrangian {}",
+            ale[j],
+            lag[j]
+        );
+    }
+}
