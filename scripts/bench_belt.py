@@ -39,9 +39,12 @@ scripts/validate_belt_exudyn.py.
 
 The 3D belt of the same drive (`belt_drive_3d`, co-rotational elements, contact across the
 width) runs the same protocol at --elements-3d (issue 13 item 5: real time at 120 elements).
+The drive and the soft belt as axially moving (ALE) belts (`belt.formulation` = 2: the mesh
+fixed to the loop's shape, the material flowing through it) run it at --ale-elements.
 
 Usage: python scripts/bench_belt.py [--elements 16 25 50 100 120 200 400] [--t-end 1.0]
-       [--soft-elements 120] [--elements-3d 60 120 240] [--serpentine-t-end 0.5] [--exudyn-t-end 10] [--no-exudyn]
+       [--soft-elements 120] [--ale-elements 60 120 240] [--elements-3d 60 120 240] [--serpentine-t-end 0.5]
+       [--exudyn-t-end 10] [--no-exudyn]
        [--exudyn-layout]
 Writes build/bench/belt.csv and build/bench/belt.png.
 """
@@ -73,13 +76,17 @@ def drive(t):
 
 
 SOFT = {"belt.EA": 8000.0, "belt.pretension": 400.0, "contact.mu": 0.5}
+# the axially moving (ALE) formulation of the same drive (`belt.formulation` = 2, "ale")
+ALE = {"belt.formulation": 2}
 
 
 def run_flexfmu(n_el, t_end, h=1e-3, case="belt_drive"):
-    """The shipped drive (case `belt_drive`), the soft belt (`soft`) or the 3D belt of the same
-    drive (`belt_drive_3d`, issue 13 item 5) over the drive's protocol."""
+    """The shipped drive (case `belt_drive`), the soft belt (`soft`), either as an ALE belt
+    (`belt_drive ALE`, `soft ALE`) or the 3D belt of the same drive (`belt_drive_3d`, issue 13
+    item 5) over the drive's protocol."""
     start = time.perf_counter()
-    params = {"belt.n_elements": n_el, **(SOFT if case == "soft" else {})}
+    params = {"belt.n_elements": n_el, **(SOFT if case.startswith("soft") else {}),
+              **(ALE if case.endswith(" ALE") else {})}
     scene = "belt_drive_3d" if case == "belt_drive_3d" else "belt_drive"
     fmu = Fmu(ROOT / "build" / "fmus" / f"{scene}.fmu", params)
     init = time.perf_counter() - start
@@ -307,7 +314,8 @@ def plot(rows, path):
     drive = sorted((r["elements"], r["rtf"]) for r in rows if r["case"] == "belt_drive")
     if drive:
         ax.loglog(*zip(*drive), "o-", label="belt_drive (fmpy, 1 ms)")
-    for case, marker in (("soft", "s"), ("serpentine", "^"), ("belt_drive_3d", "D-")):
+    for case, marker in (("soft", "s"), ("serpentine", "^"), ("belt_drive_3d", "D-"),
+                         ("belt_drive ALE", "o--"), ("soft ALE", "s--")):
         pts = [(r["elements"], r["rtf"]) for r in rows if r["case"] == case]
         if pts:
             ax.loglog(*zip(*pts), marker, markersize=8, label=f"{case} (fmpy, 1 ms)")
@@ -337,6 +345,8 @@ def main():
     ap.add_argument("--serpentine-elements", type=int, nargs="*", default=[120])
     ap.add_argument("--elements-3d", type=int, nargs="*", default=[60, 120, 240],
                     help="element counts of the 3D belt (belt_drive_3d, same drive and protocol)")
+    ap.add_argument("--ale-elements", type=int, nargs="*", default=[60, 120, 240],
+                    help="element counts of the drive and the soft belt as ALE belts (belt.formulation = 2)")
     ap.add_argument("--serpentine-t-end", type=float, default=0.5)
     ap.add_argument("--exudyn-t-end", type=float, default=10.0,
                     help="simulated time of Exudyn's test model [s] (its own end time: 10 s)")
@@ -352,6 +362,7 @@ def main():
               f"{'wall/sim s':>12s} {'RT factor':>9s} {'omega2':>10s}")
     print(header, flush=True)
     runs = [("belt_drive", n) for n in args.elements] + [("soft", n) for n in args.soft_elements]
+    runs += [(c, n) for c in ("belt_drive ALE", "soft ALE") for n in args.ale_elements]
     runs += [("serpentine", n) for n in args.serpentine_elements]
     runs += [("belt_drive_3d", n) for n in args.elements_3d]
     if not args.no_exudyn:
@@ -361,7 +372,7 @@ def main():
     rows = []
     for case, n in runs:
         try:
-            if case in ("belt_drive", "soft", "belt_drive_3d"):
+            if case in ("belt_drive", "soft", "belt_drive_3d", "belt_drive ALE", "soft ALE"):
                 r = run_flexfmu(n, args.t_end, case=case)
             elif case == "serpentine":
                 r = run_serpentine(n, args.serpentine_t_end)
