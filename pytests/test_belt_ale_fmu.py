@@ -101,7 +101,7 @@ def steady(fmu, params, omega=60.0, load=10.0, h=1e-3, t_end=0.6, load_step=None
             r.set(pulley1__angle=angle, pulley1__omega=w, pulley2__torque_in=tl)
             r.step(t, h)
             angle += w * h
-            o = r.get(names + ["energy.kinetic", "belt.speed", "pulley1.torque"])
+            o = r.get(names + [n for n in ("energy.kinetic", "belt.speed", "pulley1.torque") if n in r.vr])
             assert np.all(np.isfinite(o)), (t, o)
             if t + h > t_end - 0.2 + 1e-9:
                 acc, k = acc + o[: len(names)], k + 1
@@ -390,10 +390,16 @@ CASES = {
 
 @pytest.mark.parametrize("case", list(CASES))
 def test_cases_against_lagrangian(fmus, case):
+    """Spans and pulley 2's speed against the Lagrangian run; and pulley 2 in steady running:
+    the belt's torque on it carries the load and the bearing damping (0.2 N m s)."""
     params, kw = CASES[case]
-    ale, lag = compare(fmus["belt_drive"], params, **kw)
-    rel = ale / lag - 1.0
+    ale, lag = compare(fmus["belt_drive"], params, names=SPANS + ["pulley2.torque"], **kw)
+    rel = ale[:3] / lag[:3] - 1.0
     assert np.all(np.abs(rel) < REL), (ale, lag, rel)
+    # 1 %: over 0.4-0.6 s pulley 2 (0.01 kg m2) still speeds up a little (measured up to 0.39 %,
+    # radii 0.1 / 0.05, 0.07 % and less otherwise)
+    load = kw.get("load", 10.0) + 0.2 * ale[2]
+    assert abs(ale[3] / load - 1.0) < 1e-2, (ale, load)
 
 
 def test_pulley_one_at_rest_holds_the_preload(fmus):
@@ -407,3 +413,99 @@ def test_sixteen_elements_run_and_keep_the_speed(fmus):
     speed is the Lagrangian one (its span tensions are not: see the qa36 report)."""
     ale, lag = compare(fmus["belt_drive"], {"belt.n_elements": 16})
     assert abs(ale[2] / lag[2] - 1.0) < REL, (ale, lag)
+
+
+THREE = """
+[fmu]
+model_name = "belt_three"
+description = "three front-side pulleys (qa36)"
+[experiment]
+stop_time = 1.0
+step_size = 1e-3
+[element]
+type = "ancf_cable_2d"
+[belt]
+EA = 5.0e4
+EI = 0.05
+mass_per_length = 0.15
+thickness = 0.004
+pretension = 300.0
+n_elements = 140
+damping_axial = 20.0
+damping_bending = 0.0
+[contact]
+mu = 0.4
+points_per_element = 4
+[[pulley]]
+center = [0.0, 0.0]
+radius = 0.08
+mode = "driven"
+[[pulley]]
+center = [0.5, 0.0]
+radius = 0.12
+mode = "free"
+inertia = 0.01
+damping = 0.2
+[[pulley]]
+center = [0.25, 0.35]
+radius = 0.05
+mode = "free"
+inertia = 0.002
+damping = 0.05
+[solver]
+static_equilibrium = true
+integrator = "generalized_alpha"
+rho_inf = 0.8
+max_step = 1e-3
+newton_tolerance = 1e-5
+max_iterations = 25
+"""
+
+
+def test_three_front_side_pulleys(fmus, tmp_path):
+    """A drive no shipped scene has (driven pulley and two free ones, all front side), packaged
+    by the CLI: ALE against Lagrangian on the three spans and both free pulleys' speeds
+    (measured within 0.15 %)."""
+    import pathlib
+    import subprocess
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    scene, fmu = tmp_path / "belt_three.toml", tmp_path / "belt_three.fmu"
+    scene.write_text(THREE)
+    subprocess.run([str(root / "target" / "release" / "flexfmu"), "build", str(scene), "-o", str(fmu)],
+                   check=True, stdout=subprocess.DEVNULL)
+    names = ["span1.tension", "span2.tension", "span3.tension", "pulley2.omega", "pulley3.omega"]
+    ale, lag = compare(str(fmu), {}, names=names)
+    rel = ale / lag - 1.0
+    assert np.all(np.abs(rel) < REL), (ale, lag, rel)
+    assert ale[4] > ale[3] > 30.0, ale  # the small idler turns fastest
+
+
+def test_both_pulleys_driven(fmus):
+    """belt_drive_cosim (both pulleys driven by the master): pulley 2 held 0.5 % below the ratio
+    of the pitch radii; the spans carry what that creep asks, as in the Lagrangian run (measured
+    0.25 %)."""
+    names = ["belt.tension_tight", "belt.tension_slack"]
+    means = {}
+    for form in (ALE, LAGRANGIAN):
+        r = Run(fmus["belt_drive_cosim"])
+        try:
+            r.init({"belt.formulation": form})
+            h, a1, a2, acc, k = 1e-3, 0.0, 0.0, 0.0, 0
+            for i in range(600):
+                t = i * h
+                w1 = 60.0 * min((t + h / 2) / 0.3, 1.0)
+                w2 = w1 * 0.082 / 0.122 * 0.995
+                r.set(pulley1__angle=a1, pulley1__omega=w1, pulley2__angle=a2, pulley2__omega=w2)
+                r.step(t, h)
+                a1, a2 = a1 + w1 * h, a2 + w2 * h
+                o = r.get(names)
+                assert np.all(np.isfinite(o))
+                if t > 0.4:
+                    acc, k = acc + o, k + 1
+            means[form] = acc / k
+        finally:
+            r.close()
+    rel = means[ALE] / means[LAGRANGIAN] - 1.0
+    assert np.all(np.abs(rel) < REL), (means, rel)
+    assert means[ALE][0] - means[ALE][1] > 100.0, means

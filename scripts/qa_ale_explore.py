@@ -29,7 +29,7 @@ def run(fmu, sv, omega=60.0, load=10.0, h=1e-3, t_end=0.6, ramp_t=0.3, load_step
                 sl.setReal([s.vr[k]], [float(v)])
         sl.exitInitializationMode()
         n = int(round(t_end / h))
-        angle, acc, k = 0.0, np.zeros(4), 0
+        angle, acc, k = 0.0, np.zeros(len(OUT)), 0
         ramp = lambda t: min(t / ramp_t, 1.0)
         for i in range(n):
             t = i * h
