@@ -380,7 +380,11 @@ CASES = {
     "200 elements": ({"belt.n_elements": 200}, {}),
     "soft belt, 20 N m": ({"belt.EA": 8000.0, "belt.pretension": 400.0, "contact.mu": 0.5,
                            "belt.n_elements": 120}, {"load": 20.0}),
-    "radii 0.1 / 0.05": ({"pulley1.radius": 0.1, "pulley2.radius": 0.05}, {}),
+    "radii 0.1 / 0.15": ({"pulley1.radius": 0.1, "pulley2.radius": 0.15}, {}),
+    # speed-up drive: 10 N m plus the bearing at 117 rad/s is more than the small pulley's
+    # friction can carry (Euler: T1/T2 = 3.2 at its wrap): the belt slides and pulley 2 settles
+    # at 31 rad/s, where the friction's torque carries load and bearing
+    "radii 0.1 / 0.05, gross slip": ({"pulley1.radius": 0.1, "pulley2.radius": 0.05}, {}),
     "step 0.5 ms": ({}, {"h": 5e-4}),
     "step 2 ms": ({}, {"h": 2e-3}),
     "reversed": ({}, {"omega": -60.0, "load": -10.0}),
@@ -397,7 +401,7 @@ def test_cases_against_lagrangian(fmus, case):
     rel = ale[:3] / lag[:3] - 1.0
     assert np.all(np.abs(rel) < REL), (ale, lag, rel)
     # 1 %: over 0.4-0.6 s pulley 2 (0.01 kg m2) still speeds up a little (measured up to 0.39 %,
-    # radii 0.1 / 0.05, 0.07 % and less otherwise)
+    # radii 0.1 / 0.05 in gross slip, 0.03 % and less otherwise)
     load = kw.get("load", 10.0) + 0.2 * ale[2]
     assert abs(ale[3] / load - 1.0) < 1e-2, (ale, load)
 

@@ -60,6 +60,7 @@ CASES = {
     "200 el.": dict(sv={"belt.n_elements": 200}),
     "soft belt": dict(sv={"belt.EA": 8000.0, "belt.pretension": 400.0, "contact.mu": 0.5, "belt.n_elements": 120}, load=20.0),
     "radii 0.1/0.05": dict(sv={"pulley1.radius": 0.1, "pulley2.radius": 0.05}),
+    "radii 0.1/0.15": dict(sv={"pulley1.radius": 0.1, "pulley2.radius": 0.15}),
     "h 0.5 ms": dict(sv={}, h=5e-4),
     "h 2 ms": dict(sv={}, h=2e-3),
     "pulley1 at rest": dict(sv={}, omega=0.0, load=0.0),
