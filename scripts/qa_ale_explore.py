@@ -2,7 +2,6 @@
 belt_drive.fmu (build/fmus, scripts/build_fmus.sh). Usage: .venv/bin/python scripts/qa_ale_explore.py
 [case ...]; per case the means of T1, T2, omega2, pulley 1's torque over the last 0.2 s of the
 60 rad/s protocol of tests/belt_ale.rs (ramps over 0.3 s, 0.6 s run)."""
-import math
 import sys
 import time
 
