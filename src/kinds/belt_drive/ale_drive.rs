@@ -339,28 +339,32 @@ impl AleDrive {
                 }
             }
         }
-        let v = xd[nq];
-        let (mut q_s, mut p_s) = (force_s, 0.0);
-        for e in 0..self.n {
-            let (qe, qde) = (self.ring.gather(&x, e), self.ring.gather(&xd, e));
-            let (pw, fs) = self.ring.cable.ale_damping_terms(&qe, &qde, v);
-            p_diss += pw;
-            q_s += fs;
-            p_s += qde.dot(&(self.ring.band.g * qe)) + v * qe.dot(&(self.ring.band.h * qe));
-        }
-        if h > 0.0 {
-            self.sliding_work +=
-                0.5 * (self.v_s + v) * (p_s - self.p_s) - 0.5 * h * (self.power_s + v * q_s);
-        }
-        self.v_s = v;
-        self.p_s = p_s;
-        self.power_s = v * q_s;
         if h > 0.0 {
             self.input_work += 0.5 * h * (self.p_in + p_in);
-            self.dissipated += 0.5 * h * (self.p_diss + p_diss) + book.friction_work;
+        }
+        // the rest of the book (per element: material damping, momentum of the travel) only
+        // with the energy outputs, as the Lagrangian drive's
+        if self.base.spec.track_energy {
+            let v = xd[nq];
+            let (mut q_s, mut p_s) = (force_s, 0.0);
+            for e in 0..self.n {
+                let (qe, qde) = (self.ring.gather(&x, e), self.ring.gather(&xd, e));
+                let (pw, fs) = self.ring.cable.ale_damping_terms(&qe, &qde, v);
+                p_diss += pw;
+                q_s += fs;
+                p_s += qde.dot(&(self.ring.band.g * qe)) + v * qe.dot(&(self.ring.band.h * qe));
+            }
+            if h > 0.0 {
+                self.sliding_work +=
+                    0.5 * (self.v_s + v) * (p_s - self.p_s) - 0.5 * h * (self.power_s + v * q_s);
+                self.dissipated += 0.5 * h * (self.p_diss + p_diss) + book.friction_work;
+            }
+            self.v_s = v;
+            self.p_s = p_s;
+            self.power_s = v * q_s;
+            self.p_diss = p_diss;
         }
         self.p_in = p_in;
-        self.p_diss = p_diss;
         self.contact_energy = book.normal_energy;
         // span tensions: the mean axial force of the three mesh elements nearest to each
         // span's middle (as the Lagrangian drive, with mesh elements)
