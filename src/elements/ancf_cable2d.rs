@@ -779,6 +779,28 @@ impl AncfCable2d {
         }
     }
 
+    /// The axial material damping of the axially moving cable as [`Self::ale_damping_power`]
+    /// (first) and its generalized force on the belt travel `s`, `−∫ d_ε (ε̇ + v ε') ε' dx` [N]
+    /// (second; the part of the dissipated power that flows through the belt speed is `v` times
+    /// minus it).
+    pub fn ale_damping_terms(&self, q: &ElemVec, qd: &ElemVec, v: f64) -> (f64, f64) {
+        let d = self.section.damping_axial;
+        if d == 0.0 {
+            return (0.0, 0.0);
+        }
+        let (mut pw, mut fs) = (0.0, 0.0);
+        for p in &self.axial[..self.n_axial] {
+            let rp = combine(&p.d1, q);
+            let rpp = combine(&p.d2, q);
+            let len = rp.norm();
+            let eps_x = rp.dot(&rpp) / len;
+            let rate = rp.dot(&combine(&p.d1, qd)) / len + v * eps_x;
+            pw += p.w * d * rate * rate;
+            fs -= p.w * d * rate * eps_x;
+        }
+        (pw, fs)
+    }
+
     /// Dissipated power of the axial material damping of the axially moving cable,
     /// `∫ d_ε (ε̇ + v ε')² dx` [W] (bending damping excluded, see
     /// [`Self::convective_damping_into`]).

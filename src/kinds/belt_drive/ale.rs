@@ -88,6 +88,7 @@ pub fn check(scene: &BeltDriveScene, p: &ParamValues) -> Vec<String> {
     errs
 }
 
+use crate::contact::ContactBook;
 use crate::contact::ale_transport::{history_rate, transported_history, upstream};
 use crate::contact::circle_friction::{Circle, ContactLaw, PointState, evaluate};
 use crate::elements::ancf_cable2d::{
@@ -365,7 +366,11 @@ impl AlePoints {
     /// `h v` (step `h`); adds the torques on the pulleys to `torque` and writes the points' new
     /// `(pulley, z, f)` into `trial` (its `q` is left alone). With `tangent`: the derivatives
     /// of [`ContactTangent`] (q-block, `v` column, pulley-angle columns, torque rows). With
-    /// `forces` (one per pulley, added to): the force of the belt on each pulley [N].
+    /// `forces` (one per pulley, added to): the force of the belt on each pulley [N]. Returns
+    /// the contact's energy terms: penalty energy, normal damping power and the friction work
+    /// since the committed histories (trapezoidal in the slip, `w (f_n + f)/2 Δs` with the
+    /// transported `f_n`, as the Lagrangian contact books it), and the contact's generalized
+    /// force on the belt travel `s`, `Σ F·r'` [N] (`F` the force on the belt at each point).
     #[allow(clippy::too_many_arguments)]
     pub fn contact_into(
         &self,
@@ -379,8 +384,10 @@ impl AlePoints {
         trial: &mut AleHistory,
         mut tangent: Option<ContactTangent<'_>>,
         mut forces: Option<&mut [Vector2<f64>]>,
-    ) {
+    ) -> (ContactBook, f64) {
         let (m, w) = (self.len(), self.spacing());
+        let mut book = ContactBook::default();
+        let mut force_s = 0.0;
         // Every point's upstream position lies the same distance `h v` back, so its place in
         // the element (slot `j0 mod ppe` plus the common offset) takes at most `ppe` values:
         // their shape functions once per call (up to 8 points per element; points whose
@@ -437,6 +444,11 @@ impl AlePoints {
                 trial.pulley[j] = p as u32;
                 trial.z[j] = pc.z;
                 trial.f[j] = pc.friction;
+                book.slipping += pc.slipping as usize;
+                book.normal_energy += pc.normal_energy;
+                book.dissipation += pc.dissipation;
+                book.friction_work += w * 0.5 * (tr.hist.f + pc.friction) * pc.slip_increment;
+                force_s += pc.force.dot(&rpj);
                 torque[p] += pc.torque;
                 if let Some(fs) = forces.as_deref_mut() {
                     fs[p] -= pc.force;
@@ -482,6 +494,7 @@ impl AlePoints {
                 break;
             }
         }
+        (book, force_s)
     }
 }
 

@@ -610,7 +610,7 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
                 ),
                 (
                     EnergyKind::Strain,
-                    "Strain energy of the belt plus the elastic energy of the contact penalty (ale: the belt's only)",
+                    "Strain energy of the belt plus the elastic energy of the contact penalty",
                 ),
                 (
                     EnergyKind::Potential,
@@ -624,12 +624,12 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
         };
         belt(
             "energy.input_work",
-            "Work done on the system by the driven pulleys and the input torques since the start (trapezoidal rule over the internal steps)",
+            "Work done on the system by the driven pulleys and the input torques since the start (trapezoidal rule over the internal steps; ale: plus the work through the belt travel of the mesh's sliding gauge)",
             BeltOutput::InputWork,
         );
         belt(
             "energy.dissipated",
-            "Energy dissipated since the start by contact damping, friction (including the bristle energy), material and bearing damping (ale: not booked, 0)",
+            "Energy dissipated since the start by contact damping, friction (including the bristle energy), material and bearing damping (ale: the material damping with the convective strain rate)",
             BeltOutput::Dissipated,
         );
     }
