@@ -12,6 +12,9 @@
 //! * `f`: the committed friction force per length, interpolated the same way (the material's
 //!   last friction, which the trapezoidal friction work `w (f_n + f)/2 Δs` reads);
 //! * `dir`: `r_n(x_j − h v) − c` with the committed mesh coordinates `q_n`;
+//!   for an upstream position off the pulley (material entering from the span) turned back by
+//!   `d/R − atan(d/R)`, so that `R Δφ` is the path along the span's line and the arc (`d` its
+//!   distance to the tangent point, at most the travel `|h v r'|`);
 //! * `theta`: the pulley's committed angle;
 //!
 //! and [`evaluate`](super::circle_friction::evaluate) is called with the material velocity
@@ -78,8 +81,8 @@ impl TransportedHistory {
 /// the committed `(z, f)` (bristle deflection [m], friction force per length [N/m]) of points
 /// `up.j0` and `up.j1` against this pulley (0 for a point that was not in contact with it),
 /// `r_up` and `rp_up` the committed position [m] and slope of the
-/// mesh at the upstream position, `theta_n` the pulley's committed angle [rad], `h` [s] the step
-/// and `w` [m] the spacing of the points.
+/// mesh at the upstream position, `theta_n` the pulley's committed angle [rad], `h` [s] the step,
+/// `shift` the mesh shift `h v` [m] of [`upstream`] and `w` [m] the spacing of the points.
 #[allow(clippy::too_many_arguments)]
 pub fn transported_history(
     up: &Upstream,
@@ -89,9 +92,10 @@ pub fn transported_history(
     circle: &Circle,
     theta_n: f64,
     h: f64,
+    shift: f64,
     w: f64,
 ) -> TransportedHistory {
-    let dir = r_up - circle.center;
+    let mut dir = r_up - circle.center;
     let ((z0, f0), (z1, f1)) = committed;
     let z_up = (1.0 - up.alpha) * z0 + up.alpha * z1;
     let f_up = (1.0 - up.alpha) * f0 + up.alpha * f1;
@@ -99,7 +103,32 @@ pub fn transported_history(
     let dz_dv = -(z1 - z0) * h / w;
     // ∂dir/∂v = −h r'_n; ∂φ/∂dir = (−dir_y, dir_x)/|dir|²
     let ddir = -h * rp_up;
-    let dphi_dv = (dir.x * ddir.y - dir.y * ddir.x) / dir.norm_squared();
+    let mut dphi_dv = (dir.x * ddir.y - dir.y * ddir.x) / dir.norm_squared();
+    // Upstream off the pulley (on the span's straight line, entering): the material travels
+    // the distance `d` to the tangent point and then wraps, so its path round the pulley is
+    // `R (φ − φ_n) + d − R atan(d/R)`, not `R (φ − φ_n)`: the history's angle is moved back
+    // by `d/R − atan(d/R)` (`d` at most the travel `|h v r'|`). Without it an entering point
+    // starts with the spurious deflection `d − R atan(d/R) ≈ d³/(3 R²)`: at 5 ms steps of the
+    // 60 rad/s drive (d ≈ 24 mm, R = 0.12 m) 0.3 mm, which saturated the entry's friction.
+    let big_r = circle.radius;
+    let dist2 = dir.norm_squared();
+    let travel = shift.abs() * rp_up.norm();
+    // direction of the material's travel in the polar angle
+    let turn = shift.signum() * (dir.x * rp_up.y - dir.y * rp_up.x).signum();
+    if dist2 > big_r * big_r && travel > 0.0 && turn != 0.0 {
+        let d_line = (dist2 - big_r * big_r).sqrt();
+        let (d, dd_dv) = if d_line < travel {
+            (d_line, dir.dot(&ddir) / d_line)
+        } else {
+            (travel, h * shift.signum() * rp_up.norm())
+        };
+        let u = d / big_r;
+        let back = -turn * (u - u.atan());
+        let (sn, cs) = back.sin_cos();
+        dir = Vector2::new(cs * dir.x - sn * dir.y, sn * dir.x + cs * dir.y);
+        // ∂(u − atan u)/∂d = u² / (R (1 + u²))
+        dphi_dv -= turn * u * u / (big_r * (1.0 + u * u)) * dd_dv;
+    }
     TransportedHistory {
         hist: PointHistory {
             dir,
@@ -175,6 +204,7 @@ mod tests {
             &circle(),
             0.4,
             h,
+            h * v,
             W,
         )
     }
@@ -258,5 +288,66 @@ mod tests {
                 pc.slipping
             );
         }
+    }
+
+    /// A point whose material came off the span's straight line onto the pulley within the
+    /// step: its history's angle is the tangent point's less `d/R` (`d` the distance the
+    /// material still had to the tangent point), so that `R (φ − φ_n)` is the path the
+    /// material travelled (the polar angle alone, `−atan(d/R)`, shortens it by
+    /// `d − R atan(d/R)`); and `∂φ_n/∂v` against central differences.
+    #[test]
+    fn entering_point_history_unwraps_the_span() {
+        let c = circle();
+        // committed loop: the straight line `x < 0` up to the tangent point `c + (R, 0)`, then
+        // the arc; the material moves towards larger `x` (counterclockwise round `c`)
+        let field = |x: f64| {
+            if x < 0.0 {
+                (c.center + Vector2::new(RADIUS, x), Vector2::new(0.0, 1.0))
+            } else {
+                let a = x / RADIUS;
+                (
+                    c.center + RADIUS * Vector2::new(a.cos(), a.sin()),
+                    Vector2::new(-a.sin(), a.cos()),
+                )
+            }
+        };
+        let (h, x_j) = (5e-3, 8e-3);
+        let angle = |v: f64| {
+            let (r, rp) = field(x_j - h * v);
+            let up = upstream(0, M, W, 0.0);
+            let tr =
+                transported_history(&up, ((0.0, 0.0), (0.0, 0.0)), r, rp, &c, 0.0, h, h * v, W);
+            (tr.hist.dir.y.atan2(tr.hist.dir.x), tr.dphi_dv)
+        };
+        for v in [4.0, 6.0] {
+            let d = h * v - x_j;
+            let (phi, dphi_dv) = angle(v);
+            assert!(
+                (phi + d / RADIUS).abs() < 1e-12,
+                "v {v}: {phi} against {}",
+                -d / RADIUS
+            );
+            assert!((phi + (d / RADIUS).atan()).abs() > 1e-3 * d / RADIUS);
+            let dv = 1e-5;
+            let fd = (angle(v + dv).0 - angle(v - dv).0) / (2.0 * dv);
+            assert!(
+                (dphi_dv - fd).abs() < 1e-7 * fd.abs(),
+                "{dphi_dv} against {fd}"
+            );
+        }
+        // on the arc (in contact): the polar angle, unchanged
+        let (r, rp) = field(1e-3);
+        let tr = transported_history(
+            &upstream(0, M, W, 0.0),
+            ((0.0, 0.0), (0.0, 0.0)),
+            r,
+            rp,
+            &c,
+            0.0,
+            h,
+            0.05,
+            W,
+        );
+        assert_eq!(tr.hist.dir, r - c.center);
     }
 }

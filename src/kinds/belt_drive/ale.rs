@@ -430,6 +430,7 @@ impl AlePoints {
                     &pl.circle,
                     pl.theta_n,
                     h,
+                    h * v,
                     w,
                 );
                 let state = PointState {
