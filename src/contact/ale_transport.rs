@@ -115,7 +115,11 @@ pub fn transported_history(
     let travel = shift.abs() * rp_up.norm();
     // direction of the material's travel in the polar angle
     let turn = shift.signum() * (dir.x * rp_up.y - dir.y * rp_up.x).signum();
-    if dist2 > big_r * big_r && travel > 0.0 && turn != 0.0 {
+    // (only near the tangent point: farther up the line than the travel the material cannot
+    // reach the pulley within the step; 4 travels keep the history continuous wherever the
+    // point may touch, without a square root per point and pulley elsewhere)
+    let r2 = big_r * big_r;
+    if dist2 > r2 && dist2 < r2 + 16.0 * travel * travel && turn != 0.0 {
         let d_line = (dist2 - big_r * big_r).sqrt();
         let (d, dd_dv) = if d_line < travel {
             (d_line, dir.dot(&ddir) / d_line)
