@@ -17,7 +17,6 @@
 //! * FMU state: `s`, `v`, the committed mesh and the points' histories (see `AleDrive::save`).
 
 use super::BeltDriveScene;
-use super::PulleySide;
 use super::scene::names::{BELT_DAMPING_BENDING, BELT_ELEMENT, BELT_FORMULATION};
 use crate::scene::ParamValues;
 use crate::scene::params::names::{GRAVITY_X, GRAVITY_Y, SOLVER_INTEGRATOR};
@@ -33,7 +32,8 @@ pub fn requested(p: &ParamValues) -> bool {
 
 /// The reasons the ALE belt cannot model this scene with these parameters, each naming the key
 /// (empty: the scene is within the ALE model's scope). The scope is the prototype's: a closed
-/// cable belt on front-side pulleys, no tensioner, no gravity, an implicit integrator
+/// cable belt on front- and back-side pulleys (the contact kernel pushes the points out of the
+/// pitch disc whichever face runs on it), no tensioner, no gravity, an implicit integrator
 /// (generalized-α or Newmark), no bending damping (the
 /// convective rate of the bending damping is not in the kernel), contact points equally spaced
 /// round the loop (the history transport interpolates between neighbours spaced by `w`; the
@@ -46,14 +46,6 @@ pub fn check(scene: &BeltDriveScene, p: &ParamValues) -> Vec<String> {
         errs.push(format!(
             "[tensioner]: {why} does not model a tensioner yet (use \"lagrangian\")"
         ));
-    }
-    for (i, s) in scene.pulley.iter().enumerate() {
-        if s.side == PulleySide::Back {
-            errs.push(format!(
-                "pulley[{i}] (pulley{}).side = \"back\": {why} does not model back-side idlers yet",
-                i + 1
-            ));
-        }
     }
     for key in [GRAVITY_X, GRAVITY_Y] {
         if let Some(Value::Real(g)) = p.get(key)

@@ -36,7 +36,8 @@ use nalgebra::{Vector2, Vector3};
 /// rebuilt ([`MechanicalSystem::kept_matrix_current`]).
 pub const STALE_SPEED: f64 = 0.05;
 
-/// The ALE belt drive (two or more front-side pulleys, no tensioner, no gravity).
+/// The ALE belt drive (two or more pulleys on either face of the belt, no tensioner, no
+/// gravity).
 #[derive(Clone, Debug)]
 pub struct AleDrive {
     /// The Lagrangian drive it was mounted from: pulley inputs and results, roles, spans.
