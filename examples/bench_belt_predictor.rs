@@ -13,7 +13,9 @@
 //!
 //! Run: `cargo run --release --example bench_belt_predictor [scene] [n_elements] [t_end]
 //! [both|on|off|percall] [name=value ...]` (defaults: belt_drive 100 1.0 both; further
-//! parameters by name, e.g. `solver.newton=1`). `percall` runs the protocol with the predictor
+//! parameters by name, e.g. `solver.newton=1`, `belt.formulation=2` for the ALE belt, whose
+//! model has no transport predictor: run it with `on`; `BENCH_TRACE=1` prints the pulley
+//! speeds, the tensioner angle and the span tensions every 50 ms). `percall` runs the protocol with the predictor
 //! to `t_end`, then times one Newton iteration's pieces on the state reached: the residual
 //! alone, the residual with the iteration matrix, a factorization and a solve [µs per call,
 //! best of 5 batches]. Timings are of this run on this machine: compare the ratios within one
@@ -45,7 +47,10 @@ fn per_call(reps: usize, mut f: impl FnMut()) -> f64 {
 /// One Newton iteration's pieces on the belt's state at the end of the run.
 fn pieces(sim: &mut Simulation) {
     let t = sim.time();
-    let d = sim.model_as_mut::<BeltDrive>().unwrap();
+    let Some(d) = sim.model_as_mut::<BeltDrive>() else {
+        println!("percall: the Lagrangian drive only");
+        return;
+    };
     let n = d.n_free();
     let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
     d.free_state(&mut q, &mut v);
@@ -143,9 +148,33 @@ fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String], per
     let model = build_model(&scene, &p).unwrap();
     let cfg = SolverConfig::from_params(&p);
     let mut sim = Simulation::new(model, cfg, 0.0).unwrap();
-    sim.model_as_mut::<BeltDrive>()
-        .unwrap()
-        .set_transport_predictor(predictor);
+    if let Some(d) = sim.model_as_mut::<BeltDrive>() {
+        d.set_transport_predictor(predictor);
+    }
+    // `BENCH_TRACE=1`: every 50 ms the pulley speeds, the tensioner angle and the span
+    // tensions (serpentine), for the validation of one run against another
+    let trace = std::env::var("BENCH_TRACE").is_ok_and(|v| v == "1");
+    let out = |n: &str| match vars.by_name(n).map(|v| v.role) {
+        Some(Role::Output(o)) => Some(o),
+        _ => None,
+    };
+    let traced: Vec<(String, usize)> = (2..=n_p)
+        .map(|k| format!("pulley{k}.omega"))
+        .chain(["tensioner.angle".to_string()])
+        .chain((1..=n_p).map(|k| format!("span{k}.tension")))
+        .chain(["pulley1.torque".to_string()])
+        .filter_map(|n| out(&n).map(|o| (n, o)))
+        .collect();
+    if trace {
+        println!(
+            "trace | t | {}",
+            traced
+                .iter()
+                .map(|(n, _)| n.as_str())
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+    }
     sim.initialize().unwrap();
     sim.log_rejections(true);
     let s0 = sim.stats();
@@ -188,11 +217,25 @@ fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String], per
             break;
         }
         angle += 0.5 * (omega(t) + omega(t + h)) * h;
+        if trace && (i + 1) % 50 == 0 {
+            println!(
+                "trace | {:.3} | {}",
+                t + h,
+                traced
+                    .iter()
+                    .map(|(_, o)| format!("{:.6}", sim.output(*o)))
+                    .collect::<Vec<_>>()
+                    .join(" | ")
+            );
+        }
         let rej = sim.take_rejections();
         if !rej.is_empty() {
-            let d = sim.model_as::<BeltDrive>().unwrap();
+            let d = sim.model_as::<BeltDrive>();
             for r in rej {
-                let what = d.describe_free_coordinate(r.coordinate);
+                let what = d.map_or_else(
+                    || format!("ALE coordinate {}", r.coordinate),
+                    |d| d.describe_free_coordinate(r.coordinate),
+                );
                 let cause = match &r.newton {
                     None => "error estimate".to_string(),
                     Some(m) if m.contains("did not converge") => "Newton not converged".into(),

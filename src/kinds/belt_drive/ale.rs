@@ -33,20 +33,16 @@ pub fn requested(p: &ParamValues) -> bool {
 /// The reasons the ALE belt cannot model this scene with these parameters, each naming the key
 /// (empty: the scene is within the ALE model's scope). The scope is the prototype's: a closed
 /// cable belt on front- and back-side pulleys (the contact kernel pushes the points out of the
-/// pitch disc whichever face runs on it), no tensioner, no gravity, an implicit integrator
+/// pitch disc whichever face runs on it), with or without a tensioner, no gravity, an implicit
+/// integrator
 /// (generalized-α or Newmark), no bending damping (the
 /// convective rate of the bending damping is not in the kernel), contact points equally spaced
 /// round the loop (the history transport interpolates between neighbours spaced by `w`; the
 /// belt-drive kind places `contact.points_per_element` points equally spaced in equal
 /// elements, so this holds by construction, and the belt-drive scene always closes the belt).
-pub fn check(scene: &BeltDriveScene, p: &ParamValues) -> Vec<String> {
+pub fn check(_scene: &BeltDriveScene, p: &ParamValues) -> Vec<String> {
     let mut errs = Vec::new();
     let why = "belt.formulation = \"ale\"";
-    if scene.tensioner.is_some() {
-        errs.push(format!(
-            "[tensioner]: {why} does not model a tensioner yet (use \"lagrangian\")"
-        ));
-    }
     for key in [GRAVITY_X, GRAVITY_Y] {
         if let Some(Value::Real(g)) = p.get(key)
             && g != 0.0
@@ -237,6 +233,8 @@ pub struct ContactTangent<'a> {
     pub torque_dv: &'a mut [f64],
     /// `∂τ_p/∂θ_p + a_theta ∂τ_p/∂ω_p` (`np`; added to).
     pub torque_dtheta: &'a mut [f64],
+    /// The tensioner arm's tangent (with a pulley on an arm).
+    pub arm: Option<&'a mut ArmTangent>,
 }
 
 /// A pulley as the ALE contact sees it in one Newton iteration.
@@ -250,6 +248,67 @@ pub struct AlePulley {
     pub omega: f64,
     /// Angle at the last accepted step [rad].
     pub theta_n: f64,
+    /// Centre at the last accepted step [m] (the friction history's direction is the
+    /// committed material point's from it; a tensioner's idler moves with its arm).
+    pub center_n: Vector2<f64>,
+    /// The arm of a tensioner's idler (its centre `c(ψ)` moves with the arm angle `ψ`), or
+    /// none for a pulley on a fixed centre.
+    pub arm: Option<AleArm>,
+}
+
+/// The arm of a tensioner's idler at the trial state: `c'(ψ)`, `c''(ψ)` and `ψ̇` (see
+/// [`crate::contact::ArmPulley`]). The contact sees the belt's velocity relative to the moving
+/// centre, `v − c' ψ̇`, and the arm receives the moment `Q_ψ = −F·c'` of each point's force.
+#[derive(Clone, Copy, Debug)]
+pub struct AleArm {
+    /// `c'(ψ)` [m/rad].
+    pub slope: Vector2<f64>,
+    /// `c''(ψ)` [m/rad²].
+    pub curvature: Vector2<f64>,
+    /// `ψ̇` [rad/s].
+    pub rate: f64,
+}
+
+/// The tangent of the tensioner's arm angle `ψ` in [`AlePoints::contact_into`] (with
+/// `ψ̇` moving as `a_theta ψ`, as a pulley's angle), added to: the q-equations' column
+/// `−∂F/∂ψ − a_theta ∂F/∂ψ̇` (`nq`), the idler's torque `∂τ/∂ψ + a_theta ∂τ/∂ψ̇`, and the
+/// arm moment's row `∂Q_ψ/∂(q + a_qd q̇)` (`nq`), `∂Q_ψ/∂v`, `∂Q_ψ/∂θ` (the idler's angle,
+/// with its speed) and `∂Q_ψ/∂ψ`.
+#[derive(Clone, Debug, Default)]
+pub struct ArmTangent {
+    /// `−∂F/∂ψ − a_theta ∂F/∂ψ̇` into the q-equations (`nq`).
+    pub dpsi: Vec<f64>,
+    /// `∂τ/∂ψ + a_theta ∂τ/∂ψ̇` of the idler.
+    pub torque_dpsi: f64,
+    /// `∂Q_ψ/∂q + a_qd ∂Q_ψ/∂q̇` (`nq`).
+    pub moment_dq: Vec<f64>,
+    /// `∂Q_ψ/∂v`.
+    pub moment_dv: f64,
+    /// `∂Q_ψ/∂θ + a_theta ∂Q_ψ/∂ω` of the idler.
+    pub moment_dtheta: f64,
+    /// `∂Q_ψ/∂ψ + a_theta ∂Q_ψ/∂ψ̇`.
+    pub moment_dpsi: f64,
+}
+
+impl ArmTangent {
+    /// Zeros for `nq` mesh coordinates.
+    pub fn new(nq: usize) -> Self {
+        Self {
+            dpsi: vec![0.0; nq],
+            moment_dq: vec![0.0; nq],
+            ..Self::default()
+        }
+    }
+
+    /// Sets every entry to zero.
+    pub fn clear(&mut self) {
+        self.dpsi.iter_mut().for_each(|x| *x = 0.0);
+        self.moment_dq.iter_mut().for_each(|x| *x = 0.0);
+        self.torque_dpsi = 0.0;
+        self.moment_dv = 0.0;
+        self.moment_dtheta = 0.0;
+        self.moment_dpsi = 0.0;
+    }
 }
 
 /// What the contact points held at the last accepted step: per point the pulley it touched
@@ -362,7 +421,9 @@ impl AlePoints {
     /// the contact's energy terms: penalty energy, normal damping power and the friction work
     /// since the committed histories (trapezoidal in the slip, `w (f_n + f)/2 Δs` with the
     /// transported `f_n`, as the Lagrangian contact books it), and the contact's generalized
-    /// force on the belt travel `s`, `Σ F·r'` [N] (`F` the force on the belt at each point).
+    /// force on the belt travel `s`, `Σ F·r'` [N] (`F` the force on the belt at each point);
+    /// and the moment of the contact forces on a tensioner's arm `Q_ψ = −Σ F·c'(ψ)` [N m]
+    /// (0 without an arm).
     #[allow(clippy::too_many_arguments)]
     pub fn contact_into(
         &self,
@@ -376,10 +437,11 @@ impl AlePoints {
         trial: &mut AleHistory,
         mut tangent: Option<ContactTangent<'_>>,
         mut forces: Option<&mut [Vector2<f64>]>,
-    ) -> (ContactBook, f64) {
+    ) -> (ContactBook, f64, f64) {
         let (m, w) = (self.len(), self.spacing());
         let mut book = ContactBook::default();
         let mut force_s = 0.0;
+        let mut arm_moment = 0.0;
         // Every point's upstream position lies the same distance `h v` back, so its place in
         // the element (slot `j0 mod ppe` plus the common offset) takes at most `ppe` values:
         // their shape functions once per call (up to 8 points per element; points whose
@@ -414,12 +476,21 @@ impl AlePoints {
                 self.field_at(ring, &hist.q, (up.j0 as f64 + 0.5) * w + up.offset)
             };
             for (p, pl) in pulleys.iter().enumerate() {
+                // outside the pitch circle the kernel finds no contact (`evaluate` returns
+                // `None` there): skip the history's transport
+                if (rj - pl.circle.center).norm_squared() >= pl.circle.radius * pl.circle.radius {
+                    continue;
+                }
+                let committed = Circle {
+                    center: pl.center_n,
+                    radius: pl.circle.radius,
+                };
                 let tr = transported_history(
                     &up,
                     (hist.of(up.j0, p), hist.of(up.j1, p)),
                     r_up,
                     rp_up,
-                    &pl.circle,
+                    &committed,
                     pl.theta_n,
                     h,
                     h * v,
@@ -427,7 +498,7 @@ impl AlePoints {
                 );
                 let state = PointState {
                     r: rj,
-                    v: vel,
+                    v: pl.arm.map_or(vel, |a| vel - a.slope * a.rate),
                     theta: pl.theta,
                     omega: pl.omega,
                 };
@@ -443,6 +514,9 @@ impl AlePoints {
                 book.friction_work += w * 0.5 * (tr.hist.f + pc.friction) * pc.slip_increment;
                 force_s += pc.force.dot(&rpj);
                 torque[p] += pc.torque;
+                if let Some(a) = &pl.arm {
+                    arm_moment -= pc.force.dot(&a.slope);
+                }
                 if let Some(fs) = forces.as_deref_mut() {
                     fs[p] -= pc.force;
                 }
@@ -483,11 +557,37 @@ impl AlePoints {
                             }
                         }
                     }
+                    if let (Some(arm), Some(at)) = (&pl.arm, t.arm.as_deref_mut()) {
+                        // (F, τ) in ψ through the centre (−K_r c') and the relative velocity
+                        // (−C_v c'' ψ̇, and −C_v c' through ψ̇)
+                        let col = |i: usize| {
+                            let (kr_c, cv_c, cv_cc) = (
+                                pc.k[(i, 0)] * arm.slope.x + pc.k[(i, 1)] * arm.slope.y,
+                                pc.c[(i, 0)] * arm.slope.x + pc.c[(i, 1)] * arm.slope.y,
+                                pc.c[(i, 0)] * arm.curvature.x + pc.c[(i, 1)] * arm.curvature.y,
+                            );
+                            -kr_c - cv_cc * arm.rate - t.a_theta * cv_c
+                        };
+                        let fpsi = Vector2::new(col(0), col(1));
+                        at.torque_dpsi += col(2);
+                        at.moment_dpsi -= arm.slope.dot(&fpsi) + pc.force.dot(&arm.curvature);
+                        at.moment_dv -= arm.slope.dot(&fv);
+                        at.moment_dtheta -= arm.slope.dot(&fth);
+                        for a in 0..4 {
+                            let ia = ring.index(e, 2 * a);
+                            at.dpsi[ia] -= s[a] * fpsi.x;
+                            at.dpsi[ia + 1] -= s[a] * fpsi.y;
+                            let blk = s[a] * kr + (a_qd * s[a] + v * d1[a]) * cv;
+                            let row = arm.slope.transpose() * blk;
+                            at.moment_dq[ia] -= row[0];
+                            at.moment_dq[ia + 1] -= row[1];
+                        }
+                    }
                 }
                 break;
             }
         }
-        (book, force_s)
+        (book, force_s, arm_moment)
     }
 }
 
@@ -695,6 +795,8 @@ mod tests {
             theta: 0.4 + h * 0.998 * v / rp,
             omega: 0.998 * v / rp,
             theta_n: 0.4,
+            center_n: center,
+            arm: None,
         };
         let mut trial = hist.clone();
         let nq = 4 * n;
@@ -742,6 +844,7 @@ mod tests {
                     torque_dq: &mut tdq,
                     torque_dv: &mut tdv,
                     torque_dtheta: &mut tdth,
+                    arm: None,
                 }),
                 None,
             );
@@ -876,6 +979,8 @@ mod tests {
                         theta: th1 + h * omega1,
                         omega: omega1,
                         theta_n: th1,
+                        center_n: Vector2::new(0.0, 0.0),
+                        arm: None,
                     },
                     AlePulley {
                         circle: Circle {
@@ -885,6 +990,8 @@ mod tests {
                         theta: th2,
                         omega: om2,
                         theta_n: th2n,
+                        center_n: Vector2::new(0.5, 0.0),
+                        arm: None,
                     },
                 ];
                 let qd: Vec<f64> = q.iter().zip(&qn).map(|(a, b)| (a - b) / h).collect();
@@ -930,6 +1037,7 @@ mod tests {
                             torque_dq: &mut tdq,
                             torque_dv: &mut tdv,
                             torque_dtheta: &mut tdth,
+                            arm: None,
                         }),
                         None,
                     );

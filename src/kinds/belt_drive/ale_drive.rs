@@ -19,10 +19,11 @@
 //! those of the Lagrangian [`BeltDrive`] the model was mounted from (its static pre-load is the
 //! ALE model's initial mesh); the Lagrangian belt itself is not integrated.
 
-use super::ale::{AleHistory, AlePoints, AlePulley, AleRing, ContactTangent};
+use super::ale::{AleArm, AleHistory, AlePoints, AlePulley, AleRing, ArmTangent, ContactTangent};
 use super::model::BeltDrive;
 use super::pulleys::PulleyKind;
 use super::scene::{BeltOutput, Output};
+use crate::contact::ArmPulley;
 use crate::contact::circle_friction::Circle;
 use crate::elements::ancf_cable2d::{AleRates, CableRule, CableSection};
 use crate::integrators::DynState;
@@ -49,6 +50,9 @@ pub struct AleDrive {
     n: usize,
     /// Pulley index of each free-pulley coordinate (after `s`).
     free: Vec<usize>,
+    /// The tensioner: its idler's pulley index, its free-pulley number, the arm's geometry
+    /// and the index of the arm angle `ψ` among the free coordinates (after the pulleys).
+    arm: Option<AleTensioner>,
     pattern: CscPattern,
     scales: Vec<f64>,
     newton_scales: Vec<f64>,
@@ -60,6 +64,11 @@ pub struct AleDrive {
     row_p: Vec<Vec<usize>>,
     ps_pos: Vec<usize>,
     pp_pos: Vec<usize>,
+    /// With a tensioner: column `ψ` (rows `0..4n`), row `ψ` (columns `0..4n`), `(ψ, s)`,
+    /// `(ψ, θ)`, `(θ, ψ)` (θ the idler's angle) and `(ψ, ψ)`.
+    col_a: Vec<usize>,
+    row_a: Vec<usize>,
+    arm_pos: [usize; 4],
     k_gauge: f64,
     m_gauge: f64,
     /// Free coordinates held during a static solve (the pre-load is the equilibrium).
@@ -100,6 +109,20 @@ pub struct AleDrive {
     tdq: Vec<f64>,
     tdv: Vec<f64>,
     tdth: Vec<f64>,
+    arm_t: ArmTangent,
+    /// Moment of the contact on the tensioner's arm at the last residual [N m].
+    arm_moment: f64,
+}
+
+/// The tensioner of the ALE drive (see [`super::tensioner`]): the arm angle `ψ` is the free
+/// coordinate `dof`, the idler (pulley `pulley`, free coordinate `nq + 1 + free`) turns on the
+/// arm's end.
+#[derive(Clone, Copy, Debug)]
+struct AleTensioner {
+    pulley: usize,
+    free: usize,
+    dof: usize,
+    geometry: ArmPulley,
 }
 
 impl AleDrive {
@@ -118,7 +141,20 @@ impl AleDrive {
             .filter(|&k| matches!(base.spec.pulleys[k].kind, PulleyKind::Free { .. }))
             .collect();
         let nf = free.len();
-        let (is, nfree) = (nq, nq + 1 + nf);
+        let na = usize::from(base.tensioner.is_some());
+        let (is, nfree) = (nq, nq + 1 + nf + na);
+        let arm = match &base.tensioner {
+            Some(t) => Some(AleTensioner {
+                pulley: t.def.pulley,
+                free: free
+                    .iter()
+                    .position(|&k| k == t.def.pulley)
+                    .ok_or("the tensioner's idler must be a free pulley")?,
+                dof: nq + 1 + nf,
+                geometry: t.contact.obstacles()[0],
+            }),
+            None => None,
+        };
         let mut entries = Vec::new();
         for e in 0..n {
             for i in 0..8 {
@@ -140,6 +176,14 @@ impl AleDrive {
             }
             entries.push((ip, is));
         }
+        if let Some(a) = &arm {
+            let (ia, ip) = (a.dof, is + 1 + a.free);
+            for i in 0..nq {
+                entries.push((i, ia));
+                entries.push((ia, i));
+            }
+            entries.extend([(ia, is), (ia, ip), (ip, ia), (ia, ia)]);
+        }
         let pattern = CscPattern::from_entries(nfree, entries);
         let pos = |r: usize, c: usize| pattern.position(r, c).expect("in the pattern");
         let col_s = (0..nq).map(|i| pos(i, is)).collect();
@@ -152,9 +196,21 @@ impl AleDrive {
             .collect();
         let ps_pos = (0..nf).map(|f| pos(is + 1 + f, is)).collect();
         let pp_pos = (0..nf).map(|f| pos(is + 1 + f, is + 1 + f)).collect();
-        // the Lagrangian drive's free coordinates: belt nodes, then the free pulleys
+        let (col_a, row_a, arm_pos) = match &arm {
+            Some(a) => {
+                let (ia, ip) = (a.dof, is + 1 + a.free);
+                (
+                    (0..nq).map(|i| pos(i, ia)).collect(),
+                    (0..nq).map(|i| pos(ia, i)).collect(),
+                    [pos(ia, is), pos(ia, ip), pos(ip, ia), pos(ia, ia)],
+                )
+            }
+            None => (vec![], vec![], [0; 4]),
+        };
+        // the Lagrangian drive's free coordinates: belt nodes, then the free pulleys, then the
+        // tensioner's arm
         let (bs, bn) = (&base.scales, &base.newton_scales);
-        if bs.len() != nq + nf {
+        if bs.len() != nq + nf + na {
             return Err("the ALE belt needs a closed belt of cable elements".into());
         }
         let mut scales = bs[..nq].to_vec();
@@ -168,6 +224,9 @@ impl AleDrive {
         for &k in &free {
             x.push(base.coordinates()[base.pulley_dof[k]]);
         }
+        if let Some(t) = &base.tensioner {
+            x.push(base.coordinates()[t.dof]);
+        }
         let m = pts.len();
         let hist = AleHistory::new(m, &x[..nq]);
         let pulleys = (0..np)
@@ -179,6 +238,8 @@ impl AleDrive {
                 theta: 0.0,
                 omega: 0.0,
                 theta_n: 0.0,
+                center_n: base.spec.pulleys[k].center,
+                arm: None,
             })
             .collect();
         let n_spans = base.span_mid.len();
@@ -191,6 +252,12 @@ impl AleDrive {
             rule,
             n,
             free,
+            arm,
+            col_a,
+            row_a,
+            arm_pos,
+            arm_t: ArmTangent::new(if na > 0 { nq } else { 0 }),
+            arm_moment: 0.0,
             pattern,
             scales,
             newton_scales,
@@ -287,6 +354,23 @@ impl AleDrive {
                 }
             }
         }
+        if let Some(a) = &self.arm {
+            let g = &a.geometry;
+            let (psi, psi_n) = (x[a.dof], self.base.q[self.base_arm_dof()]);
+            let pl = &mut self.pulleys[a.pulley];
+            pl.circle.center = g.center(psi);
+            pl.center_n = g.center(psi_n);
+            pl.arm = Some(AleArm {
+                slope: g.center_slope(psi),
+                curvature: g.pivot - pl.circle.center,
+                rate: xd[a.dof],
+            });
+        }
+    }
+
+    /// Index of the arm angle among the Lagrangian drive's coordinates (with a tensioner).
+    fn base_arm_dof(&self) -> usize {
+        self.base.tensioner.as_ref().map_or(0, |t| t.dof)
     }
 
     /// Commits the free state `self.x`, `self.xd`, `self.xdd` at time `t` after a step `h`:
@@ -301,7 +385,7 @@ impl AleDrive {
         self.torque.iter_mut().for_each(|v| *v = 0.0);
         self.forces.iter_mut().for_each(|v| *v = Vector2::zeros());
         let mut r = std::mem::take(&mut self.dv);
-        let (book, force_s) = self.pts.contact_into(
+        let (book, force_s, arm_moment) = self.pts.contact_into(
             &self.ring,
             self.base.contact_law(),
             &self.pulleys,
@@ -338,6 +422,17 @@ impl AleDrive {
                     p_in += self.base.io[k].torque_in.at(t) * om;
                     p_diss += damping * om * om;
                 }
+            }
+        }
+        // the tensioner's arm: its state into the Lagrangian drive's book, its damper's power
+        if let Some(a) = &self.arm {
+            let bd = self.base_arm_dof();
+            self.base.q[bd] = x[a.dof];
+            self.base.v[bd] = xd[a.dof];
+            self.base.acc[bd] = self.xdd[a.dof];
+            if let Some(tn) = self.base.tensioner.as_mut() {
+                tn.belt_moment = arm_moment;
+                p_diss += tn.def.damping * xd[a.dof] * xd[a.dof];
             }
         }
         if h > 0.0 {
@@ -434,13 +529,17 @@ impl AleDrive {
                 t += 0.5 * inertia * self.xd[self.nq() + 1 + f].powi(2);
             }
         }
+        if let (Some(a), Some(tn)) = (&self.arm, &self.base.tensioner) {
+            t += 0.5 * tn.def.inertia * self.xd[a.dof].powi(2);
+        }
         t
     }
 
-    /// Strain energy of the belt elements plus the contact's penalty energy [J] (as the
-    /// Lagrangian drive's `energy.strain`).
+    /// Strain energy of the belt elements plus the contact's penalty energy and the
+    /// tensioner's spring [J] (as the Lagrangian drive's `energy.strain`).
     fn strain_energy(&self) -> f64 {
         self.contact_energy
+            + self.base.tensioner_energy_of(&self.base.q)
             + (0..self.n)
                 .map(|e| self.ring.cable.strain_energy(&self.ring.gather(&self.x, e)))
                 .sum::<f64>()
@@ -601,6 +700,9 @@ impl Model for AleDrive {
         w.bool(self.base.t0_step.is_some());
         w.f64(self.base.t0_step.unwrap_or(0.0));
         w.f64(self.element_length());
+        if let Some(tn) = &self.base.tensioner {
+            w.f64(tn.belt_moment);
+        }
         Ok(())
     }
 
@@ -649,6 +751,15 @@ impl Model for AleDrive {
         }
         if length != self.element_length() {
             self.set_reference_length(length)?;
+        }
+        if let Some(a) = self.arm {
+            let bd = self.base_arm_dof();
+            self.base.q[bd] = self.x[a.dof];
+            self.base.v[bd] = self.xd[a.dof];
+            self.base.acc[bd] = self.xdd[a.dof];
+            if let Some(tn) = self.base.tensioner.as_mut() {
+                tn.belt_moment = r.f64().map_err(e)?;
+            }
         }
         self.base.t0_step = has_t0.then_some(t0);
         self.v_s = self.xd[self.nq()];
@@ -714,7 +825,7 @@ impl MechanicalSystem for AleDrive {
         r[is] = self.k_gauge * gauge + self.m_gauge * t0.dot(&Vector2::new(qdd[0], qdd[1]));
         match jac {
             None => {
-                self.pts.contact_into(
+                (_, _, self.arm_moment) = self.pts.contact_into(
                     &self.ring,
                     &law,
                     &self.pulleys,
@@ -751,7 +862,9 @@ impl MechanicalSystem for AleDrive {
                 for b in [&mut self.dth, &mut self.tdq, &mut self.tdv, &mut self.tdth] {
                     b.iter_mut().for_each(|v| *v = 0.0);
                 }
-                self.pts.contact_into(
+                self.arm_t.clear();
+                let has_arm = self.arm.is_some();
+                (_, _, self.arm_moment) = self.pts.contact_into(
                     &self.ring,
                     &law,
                     &self.pulleys,
@@ -768,6 +881,7 @@ impl MechanicalSystem for AleDrive {
                         torque_dq: &mut self.tdq,
                         torque_dv: &mut self.tdv,
                         torque_dtheta: &mut self.tdth,
+                        arm: has_arm.then_some(&mut self.arm_t),
                     }),
                     None,
                 );
@@ -790,6 +904,20 @@ impl MechanicalSystem for AleDrive {
                     vals[self.pp_pos[f]] +=
                         c.mass * inertia + c.damping * damping - st * self.tdth[k];
                 }
+                if let (Some(_), Some(tn)) = (&self.arm, &self.base.tensioner) {
+                    let at = &self.arm_t;
+                    for i in 0..nq {
+                        vals[self.col_a[i]] += st * at.dpsi[i];
+                        vals[self.row_a[i]] -= st * at.moment_dq[i];
+                    }
+                    let d = &tn.def;
+                    vals[self.arm_pos[0]] -= c.damping * at.moment_dv;
+                    vals[self.arm_pos[1]] -= st * at.moment_dtheta;
+                    vals[self.arm_pos[2]] -= st * at.torque_dpsi;
+                    vals[self.arm_pos[3]] +=
+                        c.mass * d.inertia + c.damping * d.damping + c.stiffness * d.stiffness
+                            - st * at.moment_dpsi;
+                }
             }
         }
         for (f, &k) in self.free.iter().enumerate() {
@@ -799,6 +927,13 @@ impl MechanicalSystem for AleDrive {
                     - self.base.io[k].torque_in.at(t)
                     - self.torque[k];
             }
+        }
+        // the tensioner's arm: I ψ̈ + c ψ̇ + k (ψ − ψ_free) − Q_ψ = 0
+        if let (Some(a), Some(tn)) = (&self.arm, &self.base.tensioner) {
+            let (d, ia) = (&tn.def, a.dof);
+            r[ia] =
+                d.inertia * xdd[ia] + d.damping * xd[ia] + d.stiffness * (x[ia] - tn.free_angle)
+                    - self.arm_moment;
         }
         if r.iter().all(|x| x.is_finite()) {
             Ok(())
@@ -866,13 +1001,21 @@ mod tests {
     /// The ALE drive of `belt_drive.toml` (30 elements) after 60 steps of 1 ms with pulley 1
     /// speeding up to 6 rad/s and 2 N m on pulley 2: a running belt with friction histories.
     fn running() -> AleDrive {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/scenes/belt_drive.toml"
-        ))
-        .unwrap()
-        .replace("[belt]", "[belt]\nformulation = \"ale\"")
-        .replace("n_elements = 100", "n_elements = 30");
+        running_scene(
+            "belt_drive.toml",
+            ("n_elements = 100", "n_elements = 30"),
+            2.0,
+        )
+    }
+
+    /// The ALE drive of scene `name` with `elements` replaced, after 60 steps of 1 ms with
+    /// pulley 1 speeding up to 6 rad/s and the load `load` on pulley 2.
+    fn running_scene(name: &str, elements: (&str, &str), load: f64) -> AleDrive {
+        let text = std::fs::read_to_string(format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR")))
+            .unwrap()
+            .replace("[belt]", "[belt]\nformulation = \"ale\"");
+        assert!(text.contains(elements.0));
+        let text = text.replace(elements.0, elements.1);
         let scene = Scene::from_toml(&text).unwrap();
         let p = ParamValues::defaults(&scene.params);
         let model = crate::model::build_model(&scene, &p).unwrap();
@@ -888,7 +1031,7 @@ mod tests {
         for i in 0..60 {
             let t = i as f64 * 1e-3;
             sim.set_input(idx("pulley1.omega"), 100.0 * t);
-            sim.set_input(idx("pulley2.torque_in"), -2.0);
+            sim.set_input(idx("pulley2.torque_in"), -load);
             sim.advance(t + 1e-3).unwrap();
         }
         sim.model_as::<AleDrive>().unwrap().clone()
@@ -901,6 +1044,31 @@ mod tests {
     #[test]
     fn the_ale_drive_iteration_matrix_matches_finite_differences() {
         let mut m = running();
+        iteration_matrix_against_differences(&mut m);
+        // the drive runs and pulley 2 is a free coordinate with its equation
+        assert!(m.xd[m.nq()] > 0.1, "belt speed {}", m.xd[m.nq()]);
+        assert_eq!(m.n_free(), m.nq() + 2);
+    }
+
+    /// The same on the serpentine drive (60 elements, pulley 2 the tensioner's idler, free,
+    /// no load): the columns of the six free pulleys and of the arm angle `ψ` with the idler's
+    /// centre moving with it, the arm's row.
+    #[test]
+    fn the_ale_serpentine_iteration_matrix_matches_finite_differences() {
+        let mut m = running_scene(
+            "serpentine.toml",
+            ("n_elements = 120", "n_elements = 60"),
+            0.0,
+        );
+        assert_eq!(m.n_free(), m.nq() + 1 + 6 + 1);
+        let ia = m.arm.unwrap().dof;
+        assert!(m.xd[ia].abs() > 1e-4, "the arm moves: {}", m.xd[ia]);
+        assert!(m.arm_moment.abs() > 1.0, "the belt loads the arm");
+        iteration_matrix_against_differences(&mut m);
+        assert!(m.xd[m.nq()] > 0.1, "belt speed {}", m.xd[m.nq()]);
+    }
+
+    fn iteration_matrix_against_differences(m: &mut AleDrive) {
         let n = m.n_free();
         let (h, beta, gamma) = (1e-3, 0.3, 0.6);
         let t = m.t + h;
@@ -930,6 +1098,10 @@ mod tests {
         let eps = 1e-4;
         let (mut worst, mut scale) = (0.0f64, 0.0f64);
         let mut worst_at = (0, 0);
+        // the border (columns and rows of s, the pulleys and the arm) on its own scale:
+        // (worst, scale) per border column and per border row
+        let nq = m.nq();
+        let mut border = vec![(0.0f64, 0.0f64); 2 * (n - nq)];
         for c in 0..n {
             let mut d = zero.clone();
             d[c] = eps;
@@ -947,14 +1119,29 @@ mod tests {
                     worst = (fd - an).abs();
                     worst_at = (i, c);
                 }
+                for k in [
+                    (c >= nq).then(|| c - nq),
+                    (i >= nq).then(|| n - nq + i - nq),
+                ]
+                .into_iter()
+                .flatten()
+                {
+                    border[k].0 = border[k].0.max((fd - an).abs());
+                    border[k].1 = border[k].1.max(fd.abs());
+                }
             }
         }
         assert!(
             worst < 1e-5 * scale,
             "worst {worst:e} of {scale:e} at (row, col) {worst_at:?} (n = {n})"
         );
-        // the drive runs and pulley 2 is a free coordinate with its equation
-        assert!(m.xd[m.nq()] > 0.1, "belt speed {}", m.xd[m.nq()]);
-        assert_eq!(n, m.nq() + 2);
+        for (k, &(w, sc)) in border.iter().enumerate() {
+            assert!(
+                w <= 1e-5 * sc,
+                "border {} {}: worst {w:e} of {sc:e}",
+                if k < n - nq { "column" } else { "row" },
+                nq + k % (n - nq)
+            );
+        }
     }
 }
