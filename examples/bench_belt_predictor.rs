@@ -218,9 +218,13 @@ fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String], per
         }
         angle += 0.5 * (omega(t) + omega(t + h)) * h;
         if trace && (i + 1) % 50 == 0 {
+            let st = sim.stats();
             println!(
-                "trace | {:.3} | {}",
+                "trace | {:.3} | it {} fact {} steps {} | {}",
                 t + h,
+                st.newton.iterations - s0.newton.iterations,
+                st.newton.factorizations - s0.newton.factorizations,
+                st.steps - s0.steps,
                 traced
                     .iter()
                     .map(|(_, o)| format!("{:.6}", sim.output(*o)))

@@ -40,10 +40,13 @@ scripts/validate_belt_exudyn.py.
 The 3D belt of the same drive (`belt_drive_3d`, co-rotational elements, contact across the
 width) runs the same protocol at --elements-3d (issue 13 item 5: real time at 120 elements).
 The drive and the soft belt as axially moving (ALE) belts (`belt.formulation` = 2: the mesh
-fixed to the loop's shape, the material flowing through it) run it at --ale-elements.
+fixed to the loop's shape, the material flowing through it) run it at --ale-elements, the serpentine
+as an ALE belt at --serpentine-ale-elements (alternated with the Lagrangian serpentine of the same
+count, --serpentine-repeat times).
 
 Usage: python scripts/bench_belt.py [--elements 16 25 50 100 120 200 400] [--t-end 1.0]
        [--soft-elements 120] [--ale-elements 60 120 240] [--elements-3d 60 120 240] [--serpentine-t-end 0.5]
+       [--serpentine-ale-elements 60 120] [--serpentine-repeat 3]
        [--exudyn-t-end 10] [--no-exudyn]
        [--exudyn-layout]
 Writes build/bench/belt.csv and build/bench/belt.png.
@@ -192,9 +195,12 @@ def serpentine_inputs(t, t_end):
     return omega, load
 
 
-def run_serpentine(n_el, t_end, h=1e-3):
+def run_serpentine(n_el, t_end, h=1e-3, ale=False):
     start = time.perf_counter()
-    fmu = Fmu(ROOT / "build" / "fmus" / "serpentine.fmu", {"belt.n_elements": n_el})
+    params = {"belt.n_elements": n_el}
+    if ale:
+        params["belt.formulation"] = 2
+    fmu = Fmu(ROOT / "build" / "fmus" / "serpentine.fmu", params)
     init = time.perf_counter() - start
     try:
         t0 = time.perf_counter()
@@ -210,8 +216,9 @@ def run_serpentine(n_el, t_end, h=1e-3):
         wall = time.perf_counter() - t0
     finally:
         fmu.close()
-    return {"tool": "flexfmu", "case": "serpentine", "elements": n_el, "t_end": t_end, "step_s": h,
-            "wall_s": wall, "init_s": init, "rtf": t_end / wall, "omega2": w2, "tight": tight, "slack": slack}
+    return {"tool": "flexfmu", "case": "serpentine ALE" if ale else "serpentine", "elements": n_el, "t_end": t_end,
+            "step_s": h, "wall_s": wall, "init_s": init, "rtf": t_end / wall, "omega2": w2, "tight": tight,
+            "slack": slack}
 
 
 def run_exudyn_test_model(t_end, h=0.5e-3, per_section=32):
@@ -348,6 +355,11 @@ def main():
     ap.add_argument("--ale-elements", type=int, nargs="*", default=[60, 120, 240],
                     help="element counts of the drive and the soft belt as ALE belts (belt.formulation = 2)")
     ap.add_argument("--serpentine-t-end", type=float, default=0.5)
+    ap.add_argument("--serpentine-ale-elements", type=int, nargs="*", default=[],
+                    help="element counts of the serpentine as an ALE belt (belt.formulation = 2), each run "
+                         "right after the Lagrangian serpentine of the same count when that is in the list")
+    ap.add_argument("--serpentine-repeat", type=int, default=1,
+                    help="run the serpentine cases this many times, alternating Lagrangian and ALE")
     ap.add_argument("--exudyn-t-end", type=float, default=10.0,
                     help="simulated time of Exudyn's test model [s] (its own end time: 10 s)")
     ap.add_argument("--no-exudyn", action="store_true", help="skip Exudyn's test model")
@@ -363,7 +375,12 @@ def main():
     print(header, flush=True)
     runs = [("belt_drive", n) for n in args.elements] + [("soft", n) for n in args.soft_elements]
     runs += [(c, n) for c in ("belt_drive ALE", "soft ALE") for n in args.ale_elements]
-    runs += [("serpentine", n) for n in args.serpentine_elements]
+    for _ in range(args.serpentine_repeat):
+        for n in sorted(set(args.serpentine_elements) | set(args.serpentine_ale_elements)):
+            if n in args.serpentine_elements:
+                runs.append(("serpentine", n))
+            if n in args.serpentine_ale_elements:
+                runs.append(("serpentine ALE", n))
     runs += [("belt_drive_3d", n) for n in args.elements_3d]
     if not args.no_exudyn:
         runs.append(("exudyn", 128))
@@ -374,8 +391,8 @@ def main():
         try:
             if case in ("belt_drive", "soft", "belt_drive_3d", "belt_drive ALE", "soft ALE"):
                 r = run_flexfmu(n, args.t_end, case=case)
-            elif case == "serpentine":
-                r = run_serpentine(n, args.serpentine_t_end)
+            elif case in ("serpentine", "serpentine ALE"):
+                r = run_serpentine(n, args.serpentine_t_end, ale=case == "serpentine ALE")
             elif case == "exudyn":
                 r = run_exudyn_test_model(args.exudyn_t_end)
             else:

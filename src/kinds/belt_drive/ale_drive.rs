@@ -56,6 +56,10 @@ pub struct AleDrive {
     pattern: CscPattern,
     scales: Vec<f64>,
     newton_scales: Vec<f64>,
+    /// Value positions of the ring's band: column `j`, rows of the nodes before, at and after
+    /// `j`'s node (`12 j + 4 slot + component`; empty below 3 elements, where
+    /// [`CscPattern::position`] searches).
+    ring_pos: Vec<u32>,
     /// Value positions: column `s` (rows `0..4n`), the gauge row's `(s, 0)`, `(s, 1)`.
     col_s: Vec<usize>,
     gauge_pos: [usize; 2],
@@ -187,6 +191,17 @@ impl AleDrive {
         let pattern = CscPattern::from_entries(nfree, entries);
         let pos = |r: usize, c: usize| pattern.position(r, c).expect("in the pattern");
         let col_s = (0..nq).map(|i| pos(i, is)).collect();
+        let ring_pos = if n >= 3 {
+            (0..nq)
+                .flat_map(|j| {
+                    let kj = j / 4;
+                    (0..12).map(move |r| (4 * ((kj + n - 1 + r / 4) % n) + r % 4, j))
+                })
+                .map(|(i, j)| pos(i, j) as u32)
+                .collect()
+        } else {
+            vec![]
+        };
         let gauge_pos = [pos(is, 0), pos(is, 1)];
         let col_p = (0..nf)
             .map(|f| (0..nq).map(|i| pos(i, is + 1 + f)).collect())
@@ -261,6 +276,7 @@ impl AleDrive {
             pattern,
             scales,
             newton_scales,
+            ring_pos,
             col_s,
             gauge_pos,
             col_p,
@@ -845,9 +861,23 @@ impl MechanicalSystem for AleDrive {
                 // the stiffness factor (the mass matrix alone: a vanishing one)
                 let st = c.stiffness.max(1e-300);
                 let (a_qd, a_qdd) = (c.damping / st, c.mass / st);
-                let pattern = &self.pattern;
+                let (pattern, ring_pos, n) = (&self.pattern, &self.ring_pos, self.n);
                 let mut add = |i: usize, j: usize, val: f64| {
-                    vals[pattern.position(i, j).expect("ring entry")] += st * val;
+                    let p = if ring_pos.is_empty() {
+                        pattern.position(i, j).expect("ring entry")
+                    } else {
+                        // node of row i relative to column j's: before, at, after
+                        let (ki, kj) = (i / 4, j / 4);
+                        let slot = if ki == kj {
+                            1
+                        } else if ki == kj + 1 || (ki == 0 && kj == n - 1) {
+                            2
+                        } else {
+                            0
+                        };
+                        ring_pos[12 * j + 4 * slot + i % 4] as usize
+                    };
+                    vals[p] += st * val;
                 };
                 self.ring.tangent(
                     q,
