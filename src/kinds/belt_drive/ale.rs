@@ -19,7 +19,7 @@
 use super::BeltDriveScene;
 use super::scene::names::{BELT_DAMPING_BENDING, BELT_ELEMENT, BELT_FORMULATION};
 use crate::scene::ParamValues;
-use crate::scene::params::names::{GRAVITY_X, GRAVITY_Y, SOLVER_INTEGRATOR};
+use crate::scene::params::names::SOLVER_INTEGRATOR;
 use crate::variables::Value;
 
 /// Code of `belt.formulation = "ale"`.
@@ -33,8 +33,8 @@ pub fn requested(p: &ParamValues) -> bool {
 /// The reasons the ALE belt cannot model this scene with these parameters, each naming the key
 /// (empty: the scene is within the ALE model's scope). The scope is the prototype's: a closed
 /// cable belt on front- and back-side pulleys (the contact kernel pushes the points out of the
-/// pitch disc whichever face runs on it), with or without a tensioner, no gravity, an implicit
-/// integrator
+/// pitch disc whichever face runs on it), with or without a tensioner and gravity (the belt's
+/// weight, the Lagrangian drive's consistent load on the mesh), an implicit integrator
 /// (generalized-α or Newmark), no bending damping (the
 /// convective rate of the bending damping is not in the kernel), contact points equally spaced
 /// round the loop (the history transport interpolates between neighbours spaced by `w`; the
@@ -43,15 +43,6 @@ pub fn requested(p: &ParamValues) -> bool {
 pub fn check(_scene: &BeltDriveScene, p: &ParamValues) -> Vec<String> {
     let mut errs = Vec::new();
     let why = "belt.formulation = \"ale\"";
-    for key in [GRAVITY_X, GRAVITY_Y] {
-        if let Some(Value::Real(g)) = p.get(key)
-            && g != 0.0
-        {
-            errs.push(format!(
-                "{key} = {g}: {why} does not model gravity yet (the belt's weight)"
-            ));
-        }
-    }
     if let Some(Value::Integer(e)) = p.get(BELT_ELEMENT)
         && e != 1
     {

@@ -37,8 +37,8 @@ use nalgebra::{Vector2, Vector3};
 /// rebuilt ([`MechanicalSystem::kept_matrix_current`]).
 pub const STALE_SPEED: f64 = 0.05;
 
-/// The ALE belt drive (two or more pulleys on either face of the belt, no tensioner, no
-/// gravity).
+/// The ALE belt drive (two or more pulleys on either face of the belt, a tensioner or none,
+/// gravity or none).
 #[derive(Clone, Debug)]
 pub struct AleDrive {
     /// The Lagrangian drive it was mounted from: pulley inputs and results, roles, spans.
@@ -561,6 +561,18 @@ impl AleDrive {
                 .sum::<f64>()
     }
 
+    /// Gravity potential of the mesh `−Q_gᵀ q` [J] (`Q_g` the Lagrangian drive's consistent
+    /// load; its work through the belt travel, `∫ ρA g·r' dx`, vanishes round the closed loop).
+    fn potential_energy(&self) -> f64 {
+        -self
+            .base
+            .gravity_full
+            .iter()
+            .zip(self.mesh())
+            .map(|(g, q)| g * q)
+            .sum::<f64>()
+    }
+
     /// An output of the committed state.
     pub fn output_of(&self, kind: Output) -> f64 {
         let b = &self.base;
@@ -587,8 +599,10 @@ impl AleDrive {
             Output::Energy(k) => match k {
                 EnergyKind::Kinetic => self.kinetic_energy(),
                 EnergyKind::Strain => self.strain_energy(),
-                EnergyKind::Potential => 0.0,
-                EnergyKind::Total => self.kinetic_energy() + self.strain_energy(),
+                EnergyKind::Potential => self.potential_energy(),
+                EnergyKind::Total => {
+                    self.kinetic_energy() + self.strain_energy() + self.potential_energy()
+                }
             },
         }
     }
@@ -833,6 +847,13 @@ impl MechanicalSystem for AleDrive {
         let v = xd[is];
         let rates = AleRates { v, v_dot: xdd[is] };
         self.ring.residual_into(q, qd, qdd, rates, &mut r[..nq]);
+        // the belt's weight: the Lagrangian drive's consistent load of the reference length
+        // (each mesh element holds the material of one reference element length)
+        if self.base.spec.gravity != Vector2::zeros() {
+            for (ri, g) in r[..nq].iter_mut().zip(&self.base.gravity_full) {
+                *ri -= g;
+            }
+        }
         self.set_pulleys(t, x, xd);
         self.torque.iter_mut().for_each(|v| *v = 0.0);
         let law = *self.base.contact_law();

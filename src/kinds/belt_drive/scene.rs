@@ -445,7 +445,7 @@ pub fn params(s: &BeltDriveScene) -> Result<Vec<ParamDef>, String> {
         )?),
         None,
         &format!(
-            "Belt formulation: {} (lagrangian: the mesh moves with the material; ale: the mesh stays on the loop's shape and the material flows through it at the belt speed; closed cable belt on front- or back-side pulleys, with or without a tensioner, without gravity or bending damping)",
+            "Belt formulation: {} (lagrangian: the mesh moves with the material; ale: the mesh stays on the loop's shape and the material flows through it at the belt speed; closed cable belt on front- or back-side pulleys, with or without a tensioner and gravity, without bending damping)",
             describe(BELT_FORMULATIONS)
         ),
         Check::Choice(BELT_FORMULATIONS),
