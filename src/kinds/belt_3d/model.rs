@@ -963,7 +963,6 @@ impl Belt3d {
         self.st.free_state(q, v);
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn assemble(
         &mut self,
         t: f64,
