@@ -11,7 +11,8 @@
 //! communication step and the cost per element per Newton iteration; the 3D belt with and
 //! without its transport predictor (`Belt3d::set_transport_predictor`), with the contact at
 //! the centre line (`contact.width_points` = 1) and across the width (3 points). `--only3`
-//! runs the planar belt and the 3D belt with 3 width points and the predictor only.
+//! runs the planar belt and the 3D belt with 3 width points and the predictor only;
+//! `--no-planar` leaves the planar belt out (a profile of the 3D belt alone).
 //! `--set key=value` sets a scene parameter (integer or real), `--set3 key=value` one of the
 //! 3D scene only (`contact.points_per_element`, which the planar scene has too). `--log` prints the rejections by coordinate kind (node position, node rotation, other) and
 //! cause (Newton or error estimate). `--max-step H` sets `solver.max_step` (a reference run).
@@ -177,6 +178,7 @@ fn main() {
         set3: vec![],
     };
     let mut only3 = false;
+    let mut no_planar = false;
     let mut counts = vec![];
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -195,6 +197,7 @@ fn main() {
             "--t-end" => o.protocol.t_end = args.next().unwrap().parse().unwrap(),
             "--log" => o.log = true,
             "--only3" => only3 = true,
+            "--no-planar" => no_planar = true,
             "--max-step" => o.max_step = Some(args.next().unwrap().parse().unwrap()),
             a @ ("--set" | "--set3") => {
                 let kv = args.next().unwrap();
@@ -233,6 +236,9 @@ fn main() {
     };
     for n in counts {
         for &(name, width, predictor) in cases {
+            if no_planar && name == "belt_drive" {
+                continue;
+            }
             let (wall, cpu, s, summary) = run(name, n, width, predictor, &o);
             let name = match width {
                 Some(w) => format!("{name} (width_points {w})"),
@@ -258,11 +264,12 @@ fn main() {
             );
             if let Some(b) = summary {
                 println!(
-                    "  end: span tensions {:?} N, omega2 {:.6} rad/s, lateral {:.3e} m; line-search backtracks per step {:.2}",
+                    "  end: span tensions {:?} N, omega2 {:.6} rad/s, lateral {:.3e} m; line-search backtracks per step {:.2}, refreshed matrices per step {:.2}",
                     b.tensions,
                     b.omega2,
                     b.lateral,
-                    s.newton.backtracks as f64 / comm
+                    s.newton.backtracks as f64 / comm,
+                    s.newton.refreshes as f64 / comm
                 );
             }
         }

@@ -80,6 +80,10 @@ use std::cell::Cell;
 /// rotation vector (3), its second node's (3 + 3), the pulley angle (1).
 pub const SECTION_BLOCK: usize = 13;
 
+/// Pulleys whose sections' centres and tests [`SectionContactSet::commit`] keeps per
+/// section (more pulleys: computed per point).
+const MAX_COMMIT_PULLEYS: usize = 8;
+
 /// One point across the section.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct WidthPoint {
@@ -571,25 +575,49 @@ impl SectionContactSet {
         let (np, ns) = (self.points.len(), self.stations.len());
         self.loads.fill(ObstacleLoad::default());
         let mut book = ContactBook::default();
+        if no == 0 {
+            return book;
+        }
+        // (at most MAX_COMMIT_PULLEYS pulleys share a point's kinematics: a fixed array)
+        let mut near = [false; MAX_COMMIT_PULLEYS];
+        let mut conform = [(0.0, 0.0); MAX_COMMIT_PULLEYS];
         for e in 0..self.elements.len() {
             let nodes = self.elements[e];
             let rot = [frames.rotation(nodes[0], q), frames.rotation(nodes[1], q)];
-            for k in 0..no {
-                let b = e * no + k;
-                let dofs = self.blocks.dofs(b);
-                let x = [q[dofs[12]]];
-                for i in 0..ns {
-                    let st = self.stations[i];
-                    let (c, d) = self.centre(b, &st, &rot, q);
-                    let near = self.near(k, &c, &d);
-                    let conform = self.conform(k, &c, &st, &rot);
-                    for j in 0..np {
+            for i in 0..ns {
+                let st = self.stations[i];
+                // the section's centre and the point kinematics move with the element's
+                // nodes only (the same for every pulley's block): computed once per section
+                // and point, again only for a pulley whose conforming offset differs
+                let b0 = e * no;
+                let (c, d) = self.centre(b0, &st, &rot, q);
+                for k in 0..no.min(MAX_COMMIT_PULLEYS) {
+                    near[k] = self.near(k, &c, &d);
+                    conform[k] = self.conform(k, &c, &st, &rot);
+                }
+                for j in 0..np {
+                    let shared = self.kinematics(b0, &st, j, &rot, conform[0], q, v);
+                    for k in 0..no {
+                        let b = e * no + k;
+                        let dofs = self.blocks.dofs(b);
+                        let x = [q[dofs[12]]];
+                        let (cf, nr) = if k < MAX_COMMIT_PULLEYS {
+                            (conform[k], near[k])
+                        } else {
+                            (self.conform(k, &c, &st, &rot), self.near(k, &c, &d))
+                        };
+                        let own;
+                        let kin = if cf == conform[0] {
+                            &shared
+                        } else {
+                            own = self.kinematics(b, &st, j, &rot, cf, q, v);
+                            &own
+                        };
                         let idx = ((e * ns + i) * np + j) * no + k;
-                        let kin = self.kinematics(b, &st, j, &rot, conform, q, v);
                         let h = self.hist[idx];
                         let (ob, w_rim, w_fl) = self.pulley_for(j, k);
                         let ob = *ob;
-                        let res = if near && !initial {
+                        let res = if nr && !initial {
                             evaluate_parts(
                                 &ob,
                                 &self.law,

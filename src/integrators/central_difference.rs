@@ -41,6 +41,7 @@ impl CentralDifference {
             iterations: 1,
             factorizations: 0,
             backtracks: 0,
+            refreshes: 0,
         };
         let reuse = constant_mass && ws.is_factored(&MASS_ONLY);
         if reuse {

@@ -107,7 +107,7 @@ impl GeneralizedAlpha {
                 update(x, q, v, a);
                 let built = jac.is_some();
                 sys.residual(t1, q, v, x, 1.0, r, jac.map(|j| (coeffs, j)))?;
-                Ok(built || sys.kept_matrix_current())
+                Ok(sys.matrix_state(built))
             },
         );
         update(&acc, q, v, a);

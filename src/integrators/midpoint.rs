@@ -61,7 +61,7 @@ impl Midpoint {
                 update(x, q, v);
                 let built = jac.is_some();
                 sys.midpoint_residual(s0.t, s0.t + h, &s0.q, q, v, x, r, jac.map(|j| (coeffs, j)))?;
-                Ok(built || sys.kept_matrix_current())
+                Ok(sys.matrix_state(built))
             },
         );
         for i in 0..acc.len() {

@@ -52,7 +52,7 @@ impl QuasiStatic {
             }
             let built = jac.is_some();
             sys.residual(t1, x, v, a, 1.0, r, jac.map(|j| (coeffs, j)))?;
-            Ok(built || sys.kept_matrix_current())
+            Ok(sys.matrix_state(built))
         });
         for i in 0..q.len() {
             s1.v[i] = (q[i] - s0.q[i]) / h;

@@ -179,6 +179,28 @@ pub trait MechanicalSystem {
         true
     }
 
+    /// Whether the last evaluation asked for an iteration matrix answered with a refreshed
+    /// kept one instead of a matrix built at its state: asked right after an evaluation
+    /// without a matrix at the same state for which [`Self::kept_matrix_current`] said no, a
+    /// model may rebuild only the part that made the kept matrix stale (its contact blocks)
+    /// and keep the rest from the kept matrix's build. Newton's method then treats it as a
+    /// kept matrix ([`crate::solver::newton::MatrixState::Refreshed`]). Default: no.
+    fn refreshed_matrix(&self) -> bool {
+        false
+    }
+
+    /// The [`crate::solver::newton::MatrixState`] of the last evaluation, which built a
+    /// matrix if `built` (the answer of Newton's `eval`; from [`Self::kept_matrix_current`]
+    /// and [`Self::refreshed_matrix`]).
+    fn matrix_state(&self, built: bool) -> crate::solver::newton::MatrixState {
+        use crate::solver::newton::MatrixState;
+        match (built, self.refreshed_matrix()) {
+            (true, true) => MatrixState::Refreshed,
+            (true, false) => MatrixState::Current,
+            (false, _) => self.kept_matrix_current().into(),
+        }
+    }
+
     /// Switches the model to quasi-static steps (`solver.integrator = "quasi_static"`,
     /// [`crate::integrators::QuasiStatic`]): no inertia, an equilibrium at the end of every
     /// step. Returns whether the model supports it: only a model whose every free coordinate

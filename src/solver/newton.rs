@@ -107,6 +107,8 @@ pub struct NewtonStats {
     pub factorizations: usize,
     /// Residual evaluations spent shortening increments (backtracking, see [`solve`]).
     pub backtracks: usize,
+    /// Of the factorizations, those of a refreshed kept matrix ([`MatrixState::Refreshed`]).
+    pub refreshes: usize,
 }
 
 impl std::ops::AddAssign for NewtonStats {
@@ -114,6 +116,30 @@ impl std::ops::AddAssign for NewtonStats {
         self.iterations += o.iterations;
         self.factorizations += o.factorizations;
         self.backtracks += o.backtracks;
+        self.refreshes += o.refreshes;
+    }
+}
+
+/// What an evaluation of [`solve`]'s `eval` says about the iteration matrix.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MatrixState {
+    /// A matrix built at the evaluated state, or (an evaluation without one) the kept matrix
+    /// still describes the residual.
+    Current,
+    /// Evaluated without a matrix: the kept one no longer describes the residual (see
+    /// [`MechanicalSystem::kept_matrix_current`]); the iteration asks for one at the same state.
+    Stale,
+    /// Asked for a matrix right after a [`MatrixState::Stale`] answer, at the same state: the
+    /// kept matrix with only the parts that made it stale rebuilt (see
+    /// [`MechanicalSystem::refreshed_matrix`]). Not the exact matrix of the state: the
+    /// iteration treats it as a kept one (convergence judged from the contraction rate).
+    Refreshed,
+}
+
+impl From<bool> for MatrixState {
+    /// `true`: [`MatrixState::Current`], `false`: [`MatrixState::Stale`].
+    fn from(current: bool) -> Self {
+        if current { Self::Current } else { Self::Stale }
     }
 }
 
@@ -248,7 +274,10 @@ pub fn scaled_max(dx: &[f64], factor: f64, scales: &[f64]) -> f64 {
 /// `jac` is given, the iteration matrix for the coefficients `coeffs`; it returns whether a
 /// matrix built earlier still describes this residual (always true when it built one; see
 /// [`MechanicalSystem::kept_matrix_current`]), else the iteration rebuilds it (after the
-/// backtracking test below has judged the last full-Newton increment by that residual).
+/// backtracking test below has judged the last full-Newton increment by that residual), as a
+/// [`MatrixState`] (or a `bool`: current or not). A model may answer that rebuild with a
+/// refreshed kept matrix ([`MatrixState::Refreshed`]); the iteration then goes on as with a
+/// kept matrix, and a failure of it (divergence) asks for a matrix again.
 /// `increment_factor` converts an increment of `x` into coordinate units for the convergence
 /// test (`β h²` when `x` is an acceleration). With [`NewtonPolicy::Modified`], a factorization of the same
 /// coefficients from an earlier solve is reused while the iteration contracts fast.
@@ -259,13 +288,13 @@ pub fn scaled_max(dx: &[f64], factor: f64, scales: &[f64]) -> f64 {
 /// [`LINE_SEARCH_MAX_CUTS`] times, and the iteration goes on from there. This breaks the
 /// two-step cycles that contact points changing state (in/out of contact, stick/slip) cause
 /// with full steps; the convergence test is unchanged (scaled increment).
-pub fn solve(
+pub fn solve<S: Into<MatrixState>>(
     ws: &mut Workspace,
     x: &mut [f64],
     settings: &NewtonSettings,
     increment_factor: f64,
     coeffs: JacobianCoeffs,
-    mut eval: impl FnMut(&[f64], &mut [f64], Option<&mut [f64]>) -> Result<bool, ModelError>,
+    mut eval: impl FnMut(&[f64], &mut [f64], Option<&mut [f64]>) -> Result<S, ModelError>,
 ) -> Result<NewtonStats, NewtonError> {
     let modified = settings.policy == NewtonPolicy::Modified;
     let mut stats = NewtonStats::default();
@@ -281,11 +310,13 @@ pub fn solve(
     // outcome in the second iteration is recorded in `ws.second_failures`).
     let mut first_fresh = false;
     while it < settings.max_iterations {
-        let current = if fresh {
-            eval(x, &mut ws.r, Some(&mut ws.jac))?
+        let state: MatrixState = if fresh {
+            eval(x, &mut ws.r, Some(&mut ws.jac))?.into()
         } else {
-            eval(x, &mut ws.r, None)?
+            eval(x, &mut ws.r, None)?.into()
         };
+        let current = state != MatrixState::Stale;
+        let refreshed = fresh && state == MatrixState::Refreshed;
         // the residual norm only steers the backtracking
         let norm = if settings.line_search {
             ws.r.iter().map(|r| r * r).sum::<f64>().sqrt()
@@ -327,6 +358,9 @@ pub fn solve(
             ws.solver.factor(&ws.pattern, &ws.jac)?;
             ws.factored = Some(coeffs);
             stats.factorizations += 1;
+            stats.refreshes += usize::from(refreshed);
+            // a refreshed matrix is judged as a kept one from here on
+            fresh = !refreshed;
         }
         for (d, r) in ws.dx.iter_mut().zip(&ws.r) {
             *d = -r;
@@ -357,7 +391,8 @@ pub fn solve(
         for (xi, d) in x.iter_mut().zip(&ws.dx) {
             *xi += d;
         }
-        line = fresh.then_some((norm, 1.0));
+        // (a refreshed matrix's increment too: it is nearly a full-Newton one)
+        line = (fresh || refreshed).then_some((norm, 1.0));
         cuts = 0;
         // With linear convergence at rate θ the remaining error is about θ/(1−θ) times the
         // increment (Hairer & Wanner); with quadratic convergence the increment bounds it.
@@ -484,6 +519,59 @@ mod tests {
             .unwrap();
             assert_eq!((stats.iterations, stats.factorizations), (2, 0));
             assert_eq!(ws.is_factored(&coeffs), !rebuild, "rebuild_slow {rebuild}");
+        }
+    }
+
+    /// A kept matrix found stale is asked for again at the same state; a model answering with
+    /// a refreshed matrix ([`MatrixState::Refreshed`]) has it factorized and counted, and the
+    /// iteration judges it as a kept one: on `r = 2 (x − 1)` from 0 with a tolerance above the
+    /// first increment (1), a fresh matrix converges in one iteration, a refreshed one
+    /// (exact here) takes a second to measure its rate.
+    #[test]
+    fn refreshed_matrix_is_judged_as_a_kept_one() {
+        let settings = NewtonSettings {
+            tolerance: 2.0,
+            max_iterations: 10,
+            policy: NewtonPolicy::Modified,
+            line_search: true,
+        };
+        let coeffs = JacobianCoeffs {
+            mass: 0.0,
+            damping: 0.0,
+            stiffness: 1.0,
+        };
+        for refresh in [false, true] {
+            let mut ws = scalar_workspace(false);
+            ws.factored = Some(coeffs);
+            let mut stale_answers = 0;
+            let mut x = [0.0];
+            let stats = solve(&mut ws, &mut x, &settings, 1.0, coeffs, |x, r, jac| {
+                r[0] = 2.0 * (x[0] - 1.0);
+                Ok(match jac {
+                    Some(j) => {
+                        j[0] = 2.0;
+                        if refresh {
+                            MatrixState::Refreshed
+                        } else {
+                            MatrixState::Current
+                        }
+                    }
+                    None if stale_answers == 0 => {
+                        stale_answers += 1;
+                        MatrixState::Stale
+                    }
+                    None => MatrixState::Current,
+                })
+            })
+            .unwrap();
+            assert_eq!(stale_answers, 1);
+            let expect = if refresh { (2, 1, 1) } else { (1, 1, 0) };
+            assert_eq!(
+                (stats.iterations, stats.factorizations, stats.refreshes),
+                expect,
+                "refresh {refresh}"
+            );
+            assert_eq!(x[0], 1.0);
         }
     }
 

@@ -137,7 +137,7 @@ fn follow_load(
             let mut s = newton::solve(ws, &mut trial, settings, 1.0, coeffs, |x, r, jac| {
                 let built = jac.is_some();
                 sys.residual(0.0, x, &zeros, &zeros, target, r, jac.map(|j| (coeffs, j)))?;
-                Ok(built || sys.kept_matrix_current())
+                Ok(sys.matrix_state(built))
             })
             .map_err(|e: NewtonError| e.to_string())?;
             s.factorizations += 1;

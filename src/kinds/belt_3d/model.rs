@@ -179,6 +179,36 @@ pub struct Belt3d {
     anchor: Option<(Vector3<f64>, [Vector3<f64>; 2], f64)>,
     /// Whether the static pre-load ended in frictionless equilibrium ([`Belt3d::preload`]).
     frictionless_preload: bool,
+    /// What a refreshed kept matrix is made of ([`MechanicalSystem::refreshed_matrix`]).
+    refresh: RefreshCache,
+}
+
+/// The parts of the last evaluations that refresh a kept iteration matrix whose contact set
+/// is stale (issue 13 item 5, session 37): the matrix of the last build without the contact
+/// blocks, and the state and residual of the last evaluation without a matrix. Buffers
+/// allocated at the first use, reused after.
+#[derive(Clone, Debug, Default)]
+struct RefreshCache {
+    /// Matrix values of the last build (elements, free pulleys, anchor) before the contact
+    /// blocks were added.
+    base: Vec<f64>,
+    /// Coefficients (stiffness times the assembly's `k_scale`) of that build.
+    base_coeffs: Option<JacobianCoeffs>,
+    /// Full coordinates, velocities and accelerations (prescribed ones set), time and load
+    /// factor of the last evaluation without a matrix.
+    qw: Vec<f64>,
+    vw: Vec<f64>,
+    aw: Vec<f64>,
+    t_lambda: (f64, f64),
+    /// Its residual.
+    r: Vec<f64>,
+    /// Scratch full residual of the contact forces of a refresh (discarded).
+    fw: Vec<f64>,
+    /// Set when [`MechanicalSystem::kept_matrix_current`] answers no after that evaluation;
+    /// cleared by the next evaluation.
+    pending: std::cell::Cell<bool>,
+    /// Whether the last evaluation asked for a matrix refreshed the kept one.
+    refreshed: bool,
 }
 
 /// Input work and dissipation since the start [J], their rates at the last commit [W], and
@@ -431,6 +461,7 @@ impl Belt3d {
             transport_predictor: true,
             anchor: None,
             frictionless_preload: false,
+            refresh: RefreshCache::default(),
         };
         me.signals = me
             .spec
@@ -944,31 +975,28 @@ impl Belt3d {
         let mut vw = std::mem::take(&mut self.st.vw);
         self.prescribe(t, Some(&mut qw), Some(&mut vw));
         (self.st.qw, self.st.vw) = (qw, vw);
+        let pending = self.refresh.pending.take();
+        self.refresh.refreshed = false;
+        if pending && let Some((c, vals)) = jac.as_mut() {
+            let rc = &self.refresh;
+            let same = rc.base_coeffs
+                == Some(JacobianCoeffs {
+                    stiffness: c.stiffness * k_scale,
+                    ..*c
+                })
+                && rc.base.len() == vals.len()
+                && rc.t_lambda == (t, lambda)
+                && rc.qw == self.st.qw
+                && rc.vw == self.st.vw
+                && rc.aw == self.st.aw;
+            if same && c.stiffness * k_scale != 0.0 {
+                return self.refresh_matrix(k_scale, r, (*c, vals));
+            }
+        }
         let g = self.spec.gravity * lambda;
         let mut fw = self
             .st
             .assemble_elements(&self.set, &[], g, t, lambda, k_scale, &mut jac);
-        // the contact has no mass: without stiffness and damping coefficients (consistent
-        // accelerations) its matrix is zero
-        let cjac = jac
-            .as_mut()
-            .filter(|(c, _)| c.stiffness != 0.0 || c.damping != 0.0)
-            .map(|(c, vals)| {
-                (
-                    JacobianCoeffs {
-                        stiffness: c.stiffness * k_scale,
-                        ..*c
-                    },
-                    &mut **vals,
-                )
-            });
-        self.contact.add_residual(
-            &self.st.qw,
-            &self.st.vw,
-            self.st.frames.current(),
-            &mut fw,
-            cjac,
-        );
         for (k, p) in self.spec.pulleys.iter().enumerate() {
             if let Pulley3dMotion::Free {
                 inertia, damping, ..
@@ -1014,8 +1042,89 @@ impl Belt3d {
                 }
             }
         }
+        // the matrix without the contact blocks, for a refresh of it
+        // ([`MechanicalSystem::refreshed_matrix`])
+        if let Some((c, vals)) = jac.as_ref() {
+            let rc = &mut self.refresh;
+            rc.base.clear();
+            rc.base.extend_from_slice(vals);
+            rc.base_coeffs = Some(JacobianCoeffs {
+                stiffness: c.stiffness * k_scale,
+                ..*c
+            });
+        }
+        // the contact has no mass: without stiffness and damping coefficients (consistent
+        // accelerations) its matrix is zero
+        let cjac = jac
+            .as_mut()
+            .filter(|(c, _)| c.stiffness != 0.0 || c.damping != 0.0)
+            .map(|(c, vals)| {
+                (
+                    JacobianCoeffs {
+                        stiffness: c.stiffness * k_scale,
+                        ..*c
+                    },
+                    &mut **vals,
+                )
+            });
+        self.contact.add_residual(
+            &self.st.qw,
+            &self.st.vw,
+            self.st.frames.current(),
+            &mut fw,
+            cjac,
+        );
+        let built = jac.is_some();
         self.st
-            .finish_assembly(fw, r, jac.as_ref().map(|(_, vals)| &**vals))
+            .finish_assembly(fw, r, jac.as_ref().map(|(_, vals)| &**vals))?;
+        if !built {
+            // the state and residual a refresh of the kept matrix would be asked for
+            let rc = &mut self.refresh;
+            for (dst, src) in [
+                (&mut rc.qw, &self.st.qw[..]),
+                (&mut rc.vw, &self.st.vw[..]),
+                (&mut rc.aw, &self.st.aw[..]),
+                (&mut rc.r, &r[..]),
+            ] {
+                dst.clear();
+                dst.extend_from_slice(src);
+            }
+            rc.t_lambda = (t, lambda);
+        }
+        Ok(())
+    }
+
+    /// The kept iteration matrix refreshed at the state of the last evaluation without a
+    /// matrix (the caller has checked that this is that state and that the kept matrix is
+    /// the last one built, with these coefficients): the matrix of that build without its
+    /// contact blocks plus the contact blocks of this state; the residual is that
+    /// evaluation's. See [`MechanicalSystem::refreshed_matrix`].
+    fn refresh_matrix(
+        &mut self,
+        k_scale: f64,
+        r: &mut [f64],
+        (c, vals): (JacobianCoeffs, &mut [f64]),
+    ) -> Result<(), ModelError> {
+        let rc = &mut self.refresh;
+        vals.copy_from_slice(&rc.base);
+        rc.fw.clear();
+        rc.fw.resize(self.st.qw.len(), 0.0);
+        self.contact.add_residual(
+            &self.st.qw,
+            &self.st.vw,
+            self.st.frames.current(),
+            &mut rc.fw,
+            Some((
+                JacobianCoeffs {
+                    stiffness: c.stiffness * k_scale,
+                    ..c
+                },
+                vals,
+            )),
+        );
+        r.copy_from_slice(&rc.r);
+        rc.refreshed = true;
+        crate::assembly::check_finite(r, Some(vals))
     }
 }
 
@@ -1375,6 +1484,7 @@ impl Model for Belt3d {
             return Err(format!("reference length {l} in the state"));
         }
         self.set_reference_length(l);
+        self.refresh.pending.set(false);
         self.contact.restore(r)?;
         self.contact.restore_loads(r)?;
         self.book = ContactBook {
@@ -1491,7 +1601,20 @@ impl MechanicalSystem for Belt3d {
     /// belt's speed). Stick/slip changes do not count: a kept matrix mostly converges through
     /// them (counting them too: 2.35 factorizations per step, slower).
     fn kept_matrix_current(&self) -> bool {
-        self.contact.contacts_as_in_matrix()
+        let current = self.contact.contacts_as_in_matrix();
+        self.refresh.pending.set(!current);
+        current
+    }
+
+    /// A kept matrix that went stale because sections landed (or lifted) is refreshed
+    /// rather than rebuilt (issue 13 item 5, session 37): the matrix of its build without
+    /// the contact blocks, plus the contact blocks at the state where the contact set was
+    /// found changed (the landing points' blocks included). Newton's method asks for the
+    /// matrix at that state right after [`Self::kept_matrix_current`] said no; the elements'
+    /// tangents and inertia (three quarters of a matrix's assembly) are those of the kept
+    /// matrix, one Newton increment old, as in any kept-matrix iteration.
+    fn refreshed_matrix(&self) -> bool {
+        self.refresh.refreshed
     }
 
     /// The transport predictor (the 3D analogue of the planar drive's, issue 12): node `i` at
@@ -1871,6 +1994,81 @@ mod tests {
             );
             check_jacobian(&mut m, &s);
         }
+    }
+
+    /// A refreshed kept matrix ([`MechanicalSystem::refreshed_matrix`]) is the matrix of the
+    /// kept build without its contact blocks plus the contact blocks of the evaluated state:
+    /// refreshed at the state of that build it is that build's matrix to the bit, with the
+    /// residual of the evaluation without a matrix; at another state (or without the stale
+    /// answer) the model builds the matrix in full.
+    #[test]
+    fn refreshed_matrix_is_the_kept_build_with_the_contact_of_the_state() {
+        let mut m = drive(3, 2);
+        let s = run(&mut m, 3, 2e-4);
+        assert!(m.contact_book().normal_energy > 0.0, "in contact");
+        let n = m.n_free();
+        let nnz = m.pattern().nnz();
+        let c = JacobianCoeffs {
+            mass: 1.0,
+            damping: 1e-3,
+            stiffness: 4e-8,
+        };
+        let (mut r_full, mut j_full) = (vec![0.0; n], vec![0.0; nnz]);
+        m.residual(
+            s.t,
+            &s.q,
+            &s.v,
+            &s.acc,
+            1.0,
+            &mut r_full,
+            Some((c, &mut j_full)),
+        )
+        .unwrap();
+        assert!(!m.refreshed_matrix());
+        // a residual at another state, then the stale answer and a matrix at that state:
+        // built in full (its residual is not the one of the evaluation without a matrix)
+        let mut q1 = s.q.clone();
+        q1[0] += 1e-6;
+        let mut r = vec![0.0; n];
+        m.residual(s.t, &q1, &s.v, &s.acc, 1.0, &mut r, None)
+            .unwrap();
+        m.refresh.pending.set(true);
+        let mut j = vec![0.0; nnz];
+        m.residual(s.t, &s.q, &s.v, &s.acc, 1.0, &mut r, Some((c, &mut j)))
+            .unwrap();
+        assert!(!m.refreshed_matrix(), "another state: built in full");
+        assert_eq!(j, j_full);
+        // the same state: refreshed, the same matrix and residual
+        m.residual(s.t, &s.q, &s.v, &s.acc, 1.0, &mut r, None)
+            .unwrap();
+        assert_eq!(r, r_full);
+        m.refresh.pending.set(true);
+        let (mut r2, mut j2) = (vec![f64::NAN; n], vec![f64::NAN; nnz]);
+        m.residual(s.t, &s.q, &s.v, &s.acc, 1.0, &mut r2, Some((c, &mut j2)))
+            .unwrap();
+        assert!(m.refreshed_matrix());
+        assert_eq!(r2, r_full);
+        assert_eq!(j2, j_full);
+        // the refreshed matrix keeps the elements' part of the kept build: refreshed at q1
+        // after a build at q1, it is the matrix of q1 (the kept build) and not the one of s.q
+        let mut j1 = vec![0.0; nnz];
+        m.residual(s.t, &q1, &s.v, &s.acc, 1.0, &mut r, Some((c, &mut j1)))
+            .unwrap();
+        assert_ne!(j1, j_full);
+        m.residual(s.t, &s.q, &s.v, &s.acc, 1.0, &mut r, None)
+            .unwrap();
+        m.refresh.pending.set(true);
+        m.residual(s.t, &s.q, &s.v, &s.acc, 1.0, &mut r2, Some((c, &mut j2)))
+            .unwrap();
+        assert!(m.refreshed_matrix());
+        assert_ne!(j2, j_full);
+        // no stale answer: a full build
+        m.residual(s.t, &s.q, &s.v, &s.acc, 1.0, &mut r, None)
+            .unwrap();
+        m.residual(s.t, &s.q, &s.v, &s.acc, 1.0, &mut r2, Some((c, &mut j2)))
+            .unwrap();
+        assert!(!m.refreshed_matrix());
+        assert_eq!(j2, j_full);
     }
 
     /// The transport predictor against the belt's path: the belt mounted on the loop of two
