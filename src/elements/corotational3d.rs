@@ -711,11 +711,7 @@ impl Corot3d {
         let mut gloc = M3x9::zeros();
         gloc.set_row(
             0,
-            &(row(
-                &(e[2] * (-q1 / l)),
-                &(qxe3[0] * 0.5),
-                &(qxe3[1] * 0.5),
-            ) / q2),
+            &(row(&(e[2] * (-q1 / l)), &(qxe3[0] * 0.5), &(qxe3[1] * 0.5)) / q2),
         );
         gloc.set_row(1, &row(&(-e[2] / l), &z3, &z3));
         gloc.set_row(2, &row(&(e[1] / l), &z3, &z3));
