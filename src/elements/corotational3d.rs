@@ -43,8 +43,10 @@ pub const ELEMENT_DOFS: usize = 12;
 pub type Vec12 = SVector<f64, ELEMENT_DOFS>;
 /// Element matrix.
 pub type Mat12 = SMatrix<f64, ELEMENT_DOFS, ELEMENT_DOFS>;
-type M3x12 = SMatrix<f64, 3, ELEMENT_DOFS>;
-type R12 = SMatrix<f64, 1, ELEMENT_DOFS>;
+/// Derivatives by the reduced columns `[δx2, δw1, δw2]` (the δx1 columns are their negation).
+type M3x9 = SMatrix<f64, 3, 9>;
+type R9 = SMatrix<f64, 1, 9>;
+type M9 = SMatrix<f64, 9, 9>;
 
 /// Most inertia points of one element (consistent variant: 4 centre-line points and 2 × 3
 /// section directors).
@@ -684,46 +686,42 @@ impl Corot3d {
             return energy;
         };
 
-        // Derivatives (3×12 or 1×12) with respect to δd = [δx1, δw1, δx2, δw2], spatial spins.
-        let put = |m: &mut M3x12, col: usize, blk: &Matrix3<f64>| {
+        // Derivatives with respect to δd = [δx1, δw1, δx2, δw2] (spatial spins). Everything
+        // depends on the positions through the chord `x2 − x1` only, so the δx1 columns are
+        // the negated δx2 columns: a derivative is kept as 3×9 (or 1×9) with the columns
+        // [δx2, δw1, δw2] and expanded into the 12 columns at the end.
+        let put = |m: &mut M3x9, col: usize, blk: &Matrix3<f64>| {
             m.fixed_view_mut::<3, 3>(0, col).copy_from(blk);
         };
-        let row = |a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>, d: &Vector3<f64>| {
-            let mut r = R12::zeros();
+        let row = |a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>| {
+            let mut r = R9::zeros();
             for j in 0..3 {
                 r[j] = a[j];
                 r[3 + j] = b[j];
                 r[6 + j] = c[j];
-                r[9 + j] = d[j];
             }
             r
         };
         let z3 = Vector3::zeros();
-        let dl = row(&-e[0], &z3, &e[0], &z3);
+        let dl = row(&e[0], &z3, &z3);
         let proj = (Matrix3::identity() - e[0] * e[0].transpose()) / l;
-        let mut de1 = M3x12::zeros();
-        put(&mut de1, 0, &-proj);
-        put(&mut de1, 6, &proj);
+        let mut de1 = M3x9::zeros();
+        put(&mut de1, 0, &proj);
         // Local components of the frame spin δw_r (Battini's Gᵀ).
-        let mut gloc = M3x12::zeros();
+        let mut gloc = M3x9::zeros();
         gloc.set_row(
             0,
-            &(row(
-                &(e[2] * (q1 / l)),
-                &(qxe3[0] * 0.5),
-                &(e[2] * (-q1 / l)),
-                &(qxe3[1] * 0.5),
-            ) / q2),
+            &(row(&(e[2] * (-q1 / l)), &(qxe3[0] * 0.5), &(qxe3[1] * 0.5)) / q2),
         );
-        gloc.set_row(1, &row(&(e[2] / l), &z3, &(-e[2] / l), &z3));
-        gloc.set_row(2, &row(&(-e[1] / l), &z3, &(e[1] / l), &z3));
+        gloc.set_row(1, &row(&(-e[2] / l), &z3, &z3));
+        gloc.set_row(2, &row(&(e[1] / l), &z3, &z3));
         // Frame spins δe_k = δw_r × e_k with δw_r = R_r gloc: for the frame's own axes
-        // e_k × (R_r g) = R_r (ê_k × g), outer products instead of 3×3 by 3×12 products.
+        // e_k × (R_r g) = R_r (ê_k × g), outer products instead of 3×3 by 3×9 products.
         let de2 = e[2] * gloc.row(0) - e[0] * gloc.row(2);
         let de3 = e[0] * gloc.row(1) - e[1] * gloc.row(0);
-        let mut dqi = [M3x12::zeros(); 2];
+        let mut dqi = [M3x9::zeros(); 2];
         put(&mut dqi[0], 3, &-skew(&loc.q[0]));
-        put(&mut dqi[1], 9, &-skew(&loc.q[1]));
+        put(&mut dqi[1], 6, &-skew(&loc.q[1]));
         let dq = (dqi[0] + dqi[1]) * 0.5;
         let qmean = 0.5 * (loc.q[0] + loc.q[1]);
         let dq1 = e[0].transpose() * dq + qmean.transpose() * de1;
@@ -734,10 +732,10 @@ impl Corot3d {
             tangent_spatial_inv(&loc.theta[0]),
             tangent_spatial_inv(&loc.theta[1]),
         ];
-        let mut dth = [M3x12::zeros(); 2];
+        let mut dth = [M3x9::zeros(); 2];
         for i in 0..2 {
             let mut sel = -gloc;
-            let mut blk = sel.fixed_view_mut::<3, 3>(0, 6 * i + 3);
+            let mut blk = sel.fixed_view_mut::<3, 3>(0, 3 * i + 3);
             blk += rrt;
             dth[i] = tinv[i] * sel;
         }
@@ -752,7 +750,7 @@ impl Corot3d {
             }
         }
         let dtor = (dth[1].row(0) - dth[0].row(0)) * self.k_torsion;
-        let mut dn = [M3x12::zeros(); 2];
+        let mut dn = [M3x9::zeros(); 2];
         dn[0].set_row(0, &-dtor);
         dn[1].set_row(0, &dtor);
         for (axis, kb) in [(1usize, &self.k_bend_y), (2usize, &self.k_bend_z)] {
@@ -770,7 +768,7 @@ impl Corot3d {
             dn[0].set_row(axis, &r0);
             dn[1].set_row(axis, &r1);
         }
-        let mut dv = [M3x12::zeros(); 2];
+        let mut dv = [M3x9::zeros(); 2];
         for i in 0..2 {
             dv[i] = lam[i] * dth[i] + tinv[i].transpose() * dn[i];
         }
@@ -779,14 +777,9 @@ impl Corot3d {
             - e[1] * dmu.row(2)
             - de2 * mu.z;
         let df2 = e[0] * dnax + de1 * nax - h * dl / (l * l) + dh / l;
-        // Rows: [−f2, R1ᵀ m1, f2, R2ᵀ m2]; columns: spatial spins → body spins (× R_j).
-        let mut ks = Mat12::zeros();
-        for c in 0..12 {
-            for r in 0..3 {
-                ks[(r, c)] = -df2[(r, c)];
-                ks[(6 + r, c)] = df2[(r, c)];
-            }
-        }
+        // Rows [f2, R1ᵀ m1, R2ᵀ m2] of the reduced columns; the force on node 1 is −f2.
+        let mut kr = M9::zeros();
+        kr.fixed_rows_mut::<3>(0).copy_from(&df2);
         // R_iᵀ δm_i with δm_i = δ(R_r v_i) − q_i × e3 δ(μ̄_1/(2 q·e2)) − δ(q_i × e3) μ̄_1/(2 q·e2):
         // δ(R_r v_i) = R_r (δv_i − ṽ_i gloc) (the frame spin R_r gloc), δe3 of the outer
         // products above, δq_i = −q̃_i δw_i (the node's own spin block only).
@@ -799,21 +792,34 @@ impl Corot3d {
             let b1 = rt * loc.q[i].cross(&e[1]) * cq;
             let mut rows = (rt * loc.rr) * (dv[i] - skew(&v[i]) * gloc) + a * dc - b0 * gloc.row(1)
                 + b1 * gloc.row(0);
-            let mut blk = rows.fixed_view_mut::<3, 3>(0, 6 * i + 3);
+            let mut blk = rows.fixed_view_mut::<3, 3>(0, 3 * i + 3);
             // ẽ₃ q̃ = q e₃ᵀ − (e₃·q) I
             blk -=
                 rt * (loc.q[i] * e[2].transpose() - Matrix3::identity() * e[2].dot(&loc.q[i])) * cq;
-            ks.fixed_view_mut::<3, 12>(6 * i + 3, 0).copy_from(&rows);
+            kr.fixed_rows_mut::<3>(3 * i + 3).copy_from(&rows);
         }
+        // columns: spatial spins → body spins (× R_j)
         for j in 0..2 {
-            let cols = ks.fixed_view::<12, 3>(0, 6 * j + 3) * n.r[j];
-            ks.fixed_view_mut::<12, 3>(0, 6 * j + 3).copy_from(&cols);
+            let cols = kr.fixed_columns::<3>(3 * j + 3) * n.r[j];
+            kr.fixed_columns_mut::<3>(3 * j + 3).copy_from(&cols);
         }
         for i in 0..2 {
-            let mut blk = ks.fixed_view_mut::<3, 3>(6 * i + 3, 6 * i + 3);
+            let mut blk = kr.fixed_view_mut::<3, 3>(3 * i + 3, 3 * i + 3);
             blk += skew(&mb[i]);
         }
-        *k = ks;
+        // expand: full row/column block b ↔ reduced block and sign
+        const EXPAND: [(usize, bool); 4] = [(0, true), (3, false), (0, false), (6, false)];
+        for (bc, &(rc, nc)) in EXPAND.iter().enumerate() {
+            for (br, &(rr, nr)) in EXPAND.iter().enumerate() {
+                let src = kr.fixed_view::<3, 3>(rr, rc);
+                let mut dst = k.fixed_view_mut::<3, 3>(3 * br, 3 * bc);
+                if nr != nc {
+                    dst.copy_from(&-src);
+                } else {
+                    dst.copy_from(&src);
+                }
+            }
+        }
         energy
     }
 }

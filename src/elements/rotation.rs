@@ -99,8 +99,14 @@ pub fn exp_so3(th: &Vector3<f64>) -> Matrix3<f64> {
 /// θ = 0 and θ = π (axis from the symmetric part there). `R` must be a rotation matrix.
 pub fn log_so3(r: &Matrix3<f64>) -> Vector3<f64> {
     let w = axial(r); // sin θ · n
-    let s = w.norm();
-    let c = (0.5 * (r.trace() - 1.0)).clamp(-1.0, 1.0);
+    let s2 = w.norm_squared();
+    let tr = r.trace();
+    if s2 < ASIN_SERIES_S2 && tr > 1.0 {
+        // near the identity (sin θ < 0.2, cos θ > 0): θ/sin θ = asin(s)/s, no atan2
+        return w * asin_over_x(s2);
+    }
+    let s = s2.sqrt();
+    let c = (0.5 * (tr - 1.0)).clamp(-1.0, 1.0);
     let t = s.atan2(c);
     if c > -0.9 {
         // θ/sin θ = 1/sinc(θ)
@@ -119,6 +125,29 @@ pub fn log_so3(r: &Matrix3<f64>) -> Vector3<f64> {
         }
         n * t
     }
+}
+
+/// Largest `sin² θ` of [`log_so3`]'s series branch.
+const ASIN_SERIES_S2: f64 = 0.04;
+
+/// `asin(x)/x` for `x² = x2 < 0.04`: its Taylor series `Σ a_n x²ⁿ`,
+/// `a_n = a_{n−1} (2n − 1)²/(2n (2n + 1))`, to `n = 10` (the rest is below 1e-17).
+#[inline]
+fn asin_over_x(x2: f64) -> f64 {
+    const A: [f64; 11] = [
+        1.0,
+        1.0 / 6.0,
+        3.0 / 40.0,
+        5.0 / 112.0,
+        35.0 / 1152.0,
+        63.0 / 2816.0,
+        231.0 / 13312.0,
+        143.0 / 10240.0,
+        6435.0 / 557056.0,
+        12155.0 / 1245184.0,
+        46189.0 / 5505024.0,
+    ];
+    A.iter().rev().fold(0.0, |acc, &a| acc * x2 + a)
 }
 
 /// Body tangent `T(θ) = I − ((1 − cos θ)/θ²) θ̃ + ((θ − sin θ)/θ³) θ̃²`:
@@ -198,6 +227,25 @@ mod tests {
             assert!((r.determinant() - 1.0).abs() < 1e-14);
             let nr = nalgebra::Rotation3::from_scaled_axis(th).into_inner();
             assert!((r - nr).norm() < 1e-14, "{th:?}");
+        }
+    }
+
+    /// The series branch of log (sin θ < 0.2) agrees with the `atan2` form `θ/sin θ` to
+    /// round-off on both sides of its bound.
+    #[test]
+    fn log_series_branch_matches_atan2() {
+        let axis = Vector3::new(0.3, -0.5, 0.8).normalize();
+        for k in 0..=400 {
+            let th = axis * (0.21 * k as f64 / 400.0);
+            let r = exp_so3(&th);
+            let w = axial(&r);
+            let (s, c) = (w.norm(), 0.5 * (r.trace() - 1.0));
+            let reference = if s > 0.0 { w * (s.atan2(c) / s) } else { w };
+            let back = log_so3(&r);
+            assert!(
+                (back - reference).norm() <= 4.0 * f64::EPSILON * reference.norm(),
+                "{th:?}: {back:?} vs {reference:?}"
+            );
         }
     }
 
