@@ -590,6 +590,15 @@ fn energy_balance(form: Form) {
         "{form:?} serpentine energy: input work {w:.4} J, stored change {de:.4} J, dissipated {diss:.4} J, mismatch {mismatch:.3e} J ({:+.3} % of the input)",
         100.0 * mismatch / w.abs()
     );
+    if let Some(d) = r.sim.model_as::<AleDrive>() {
+        // the ALE book's work through the belt travel (a spatial discretization term, part
+        // of energy.input_work)
+        println!(
+            "Ale work through the belt travel {:.4} J ({:+.3} % of the input)",
+            d.sliding_work(),
+            100.0 * d.sliding_work() / w.abs()
+        );
+    }
     assert!(w > 1.0, "the drive does work: {w}");
     assert!(diss > 0.0);
     assert!(
