@@ -596,13 +596,23 @@ fn ale_drive_with_a_back_side_idler_matches_the_lagrangian_drive() {
 
 /// Diagnostic (not a check): the axial force `EA (|r'| − 1)` at every element's middle of the
 /// serpentine drive after a ramp of the crank to `SERP_W` rad/s (ALE and Lagrangian).
+/// `SERP_REPLACE="old=>new;..."` edits the scene text (damping, contact points, radii);
+/// `SERP_FINE=1` adds the strain [1e-5] and `u·r''` [1/m] at five points along each element.
 #[test]
 #[ignore = "diagnostic"]
 fn serpentine_axial_force_profile() {
     use flexfmu::kinds::belt_drive::ale_drive::AleDrive;
     let w: f64 = std::env::var("SERP_W").map_or(300.0, |s| s.parse().unwrap());
     for ale in [true, false] {
-        let text = scene_text("serpentine.toml");
+        let mut text = scene_text("serpentine.toml");
+        // SERP_REPLACE="old=>new;old2=>new2": textual edits of the scene (diagnostic variants).
+        if let Ok(edits) = std::env::var("SERP_REPLACE") {
+            for e in edits.split(';').filter(|e| !e.is_empty()) {
+                let (a, b) = e.split_once("=>").unwrap();
+                assert!(text.contains(a), "{a} not in the scene");
+                text = text.replace(a, b);
+            }
+        }
         let text = if ale {
             with_belt_key_in(&text, "formulation = \"ale\"")
         } else {
@@ -640,8 +650,38 @@ fn serpentine_axial_force_profile() {
                 1.5 * (r1[1] - r0[1]) / l - 0.25 * (t0[1] + t1[1]),
             ];
             let eps = (rp[0] * rp[0] + rp[1] * rp[1]).sqrt() - 1.0;
+            // SERP_FINE: the strain at five points along the element [1e-5] and u·r'' [1/m]
+            let fine = if std::env::var("SERP_FINE").is_ok() {
+                let mut out = String::new();
+                for k in 0..=4 {
+                    let xi = k as f64 / 4.0;
+                    // cubic Hermite derivatives on [0, l]
+                    let d1 = [
+                        (6.0 * xi * xi - 6.0 * xi) / l,
+                        3.0 * xi * xi - 4.0 * xi + 1.0,
+                        (-6.0 * xi * xi + 6.0 * xi) / l,
+                        3.0 * xi * xi - 2.0 * xi,
+                    ];
+                    let d2 = [
+                        (12.0 * xi - 6.0) / (l * l),
+                        (6.0 * xi - 4.0) / l,
+                        (-12.0 * xi + 6.0) / (l * l),
+                        (6.0 * xi - 2.0) / l,
+                    ];
+                    let c = |d: &[f64; 4], i: usize| {
+                        d[0] * r0[i] + d[1] * t0[i] + d[2] * r1[i] + d[3] * t1[i]
+                    };
+                    let (a1, b1) = (c(&d1, 0), c(&d1, 1));
+                    let (a2, b2) = (c(&d2, 0), c(&d2, 1));
+                    let nn = (a1 * a1 + b1 * b1).sqrt();
+                    out += &format!(" {:.1}/{:.3}", 1e5 * (nn - 1.0), (a1 * a2 + b1 * b2) / nn);
+                }
+                out
+            } else {
+                String::new()
+            };
             eprintln!(
-                "{} {e} {:.4} {:.4} {:.2}",
+                "{} {e} {:.4} {:.4} {:.2}{fine}",
                 if ale { "A" } else { "L" },
                 0.5 * (r0[0] + r1[0]),
                 0.5 * (r0[1] + r1[1]),
