@@ -915,3 +915,142 @@ fn ale_serpentine_energy_balance() {
     assert!(w > 1.0 && d > 0.0, "the drive does work: {w}, {d}");
     assert!(mismatch.abs() < 0.01 * w, "mismatch {mismatch} of {w}");
 }
+
+/// Diagnostic (not a check): the energy book of the ALE drive against the Lagrangian drive,
+/// with the dissipation split (friction, contact normal damping, belt material, bearings and
+/// tensioner) and the ALE drive's work through the belt travel. `TW_SCENE` (`belt_drive` or
+/// `serpentine`), `TW_N` elements, `TW_H` internal step, `TW_MU`, `TW_DA` (`damping_axial`),
+/// `TW_W` driver speed [rad/s], `TW_T` end [s], `TW_RHO` (ρ∞, default 1); the driver ramped
+/// over 0.2 s with the loads of the energy-balance tests, booked from the end of the first
+/// step; `TW_FORM` (`ale`, `lag` or both).
+#[test]
+#[ignore = "diagnostic"]
+fn travel_work_diagnostic() {
+    use flexfmu::kinds::belt_drive::ale_drive::AleDrive;
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
+    let scene = env("TW_SCENE", "belt_drive");
+    let serp = scene == "serpentine";
+    let mut text = scene_text(&format!("{scene}.toml"));
+    let mut edit = |a: &str, b: String| {
+        assert!(text.contains(a), "{a}");
+        text = text.replacen(a, &b, 1);
+    };
+    let n0 = if serp {
+        "n_elements = 120"
+    } else {
+        "n_elements = 100"
+    };
+    edit(n0, format!("n_elements = {}", env("TW_N", &n0[13..])));
+    edit(
+        "max_step = 1e-3",
+        format!("max_step = {}", env("TW_H", "2.5e-4")),
+    );
+    edit(
+        "rho_inf = 0.8",
+        format!("rho_inf = {}", env("TW_RHO", "1.0")),
+    );
+    let mu0 = if serp { "mu = 0.5 " } else { "mu = 0.4" };
+    edit(mu0, format!("mu = {} ", env("TW_MU", &mu0[5..])));
+    edit(
+        "damping_axial = 20.0",
+        format!("damping_axial = {}", env("TW_DA", "20.0")),
+    );
+    if !serp {
+        // the pulley bearing (0.2 N m s), off as in the energy-balance test (`TW_BD`)
+        edit(
+            "damping = 0.2",
+            format!("damping = {}", env("TW_BD", "0.0")),
+        );
+    }
+    let w_end: f64 = env("TW_W", "60").parse().unwrap();
+    let t_end: f64 = env("TW_T", if serp { "0.35" } else { "0.6" })
+        .parse()
+        .unwrap();
+    let forms = env("TW_FORM", "both");
+    for ale in [true, false] {
+        if (ale && forms == "lag") || (!ale && forms == "ale") {
+            continue;
+        }
+        let text = if ale {
+            with_belt_key_in(&text, "formulation = \"ale\"")
+        } else {
+            text.clone()
+        };
+        let mut r = Run::new(&text);
+        let read = |r: &Run| {
+            let (sw, split) = match r.sim.model_as::<AleDrive>() {
+                Some(a) => (a.sliding_work(), a.dissipation_split()),
+                None => (
+                    0.0,
+                    r.sim.model_as::<BeltDrive>().unwrap().dissipation_split(),
+                ),
+            };
+            [
+                r.out("energy.input_work"),
+                r.out("energy.total"),
+                r.out("energy.dissipated"),
+                sw,
+                split[0],
+                split[1],
+                split[2],
+                split[3],
+            ]
+        };
+        let h = 1e-3;
+        let (mut angle, mut first, mut late) = (0.0, None, None);
+        let steps = (t_end / h).round() as usize;
+        for i in 0..steps {
+            let t = i as f64 * h;
+            let ramp = |t: f64| (t / 0.2).min(1.0);
+            let w = 0.5 * w_end * (ramp(t) + ramp(t + h));
+            r.set("pulley1.angle", angle);
+            r.set("pulley1.omega", w);
+            if serp {
+                r.set("pulley6.torque_in", -2.0 * ramp(t));
+                r.set("pulley7.torque_in", -4.0 * ramp(t));
+            } else {
+                r.set("pulley2.torque_in", -10.0 * ramp(t));
+            }
+            r.sim
+                .advance(t + h)
+                .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
+            angle += w * h;
+            first.get_or_insert(read(&r));
+            if i + 1 == steps - 100 {
+                late = Some(read(&r));
+            }
+        }
+        let (a, b, c) = (first.unwrap(), read(&r), late.unwrap());
+        let d: Vec<f64> = (0..8).map(|j| b[j] - a[j]).collect();
+        let p: Vec<f64> = (0..8).map(|j| (b[j] - c[j]) / 0.1).collect();
+        eprintln!(
+            "{} {scene} N {} h {} mu {} da {} w {w_end}: W {:.4} port {:.4} travel {:.4} dE {:.4} \
+             D {:.4} [fric {:.4} norm {:.4} mat {:.4} bear {:.4}] mismatch {:+.3} % | last 0.1 s \
+             power: in {:.2} port {:.2} travel {:.2} D {:.2} [fric {:.2} norm {:.2} mat {:.2} \
+             bear {:.2}] W",
+            if ale { "ALE" } else { "LAG" },
+            env("TW_N", &n0[13..]),
+            env("TW_H", "2.5e-4"),
+            env("TW_MU", &mu0[5..]),
+            env("TW_DA", "20.0"),
+            d[0],
+            d[0] - d[3],
+            d[3],
+            d[1],
+            d[2],
+            d[4],
+            d[5],
+            d[6],
+            d[7],
+            100.0 * (d[0] - d[1] - d[2]) / d[0],
+            p[0],
+            p[0] - p[3],
+            p[3],
+            p[2],
+            p[4],
+            p[5],
+            p[6],
+            p[7]
+        );
+    }
+}

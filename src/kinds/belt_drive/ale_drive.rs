@@ -108,6 +108,11 @@ pub struct AleDrive {
     power_s: f64,
     /// Belt speed of the last booked state [m/s].
     v_s: f64,
+    /// Diagnostic split of `dissipated` (not in the FMU state, restarts at a restore):
+    /// friction, contact normal damping, belt material, bearings and tensioner damper [J],
+    /// and the powers of the committed state [W].
+    split: [f64; 4],
+    p_split: [f64; 4],
     // work buffers
     trial: AleHistory,
     pulleys: Vec<AlePulley>,
@@ -314,6 +319,8 @@ impl AleDrive {
             p_diss: 0.0,
             contact_energy: 0.0,
             sliding_work: 0.0,
+            split: [0.0; 4],
+            p_split: [0.0; 4],
             p_s: 0.0,
             power_s: 0.0,
             v_s: 0.0,
@@ -356,6 +363,12 @@ impl AleDrive {
     /// `tests/belt_ale.rs`'s energy balance 0.18 J of 11.6 J at 0.25 ms steps, 0.16 J at 1 ms).
     pub fn sliding_work(&self) -> f64 {
         self.sliding_work
+    }
+
+    /// Diagnostic split of the dissipated energy since construction or the last restore:
+    /// friction, contact normal damping, belt material, bearings and tensioner damper [J].
+    pub fn dissipation_split(&self) -> [f64; 4] {
+        self.split
     }
 
     /// Belt speed `v` of the committed state [m/s of reference length].
@@ -441,6 +454,7 @@ impl AleDrive {
         // pulleys: angles, speeds, accelerations and results into the Lagrangian drive's book
         let mut p_in = 0.0;
         let mut p_diss = book.dissipation;
+        let mut ps = [0.0, book.dissipation, 0.0, 0.0];
         for k in 0..self.pulleys.len() {
             let pd = self.base.pulley_dof[k];
             let (th, om, al) = match self.free.iter().position(|&f| f == k) {
@@ -457,6 +471,7 @@ impl AleDrive {
                 PulleyKind::Free { damping, .. } => {
                     p_in += self.base.io[k].torque_in.at(t) * om;
                     p_diss += damping * om * om;
+                    ps[3] += damping * om * om;
                 }
             }
         }
@@ -469,6 +484,7 @@ impl AleDrive {
             if let Some(tn) = self.base.tensioner.as_mut() {
                 tn.belt_moment = arm_moment;
                 p_diss += tn.def.damping * xd[a.dof] * xd[a.dof];
+                ps[3] += tn.def.damping * xd[a.dof] * xd[a.dof];
             }
         }
         if h > 0.0 {
@@ -483,6 +499,7 @@ impl AleDrive {
                 let (qe, qde) = (self.ring.gather(&x, e), self.ring.gather(&xd, e));
                 let (pw, fs) = self.ring.cable.ale_damping_terms(&qe, &qde, v);
                 p_diss += pw;
+                ps[2] += pw;
                 q_s += fs;
                 p_s += qde.dot(&(self.ring.band.g * qe)) + v * qe.dot(&(self.ring.band.h * qe));
             }
@@ -490,7 +507,12 @@ impl AleDrive {
                 self.sliding_work +=
                     0.5 * (self.v_s + v) * (p_s - self.p_s) - 0.5 * h * (self.power_s + v * q_s);
                 self.dissipated += 0.5 * h * (self.p_diss + p_diss) + book.friction_work;
+                self.split[0] += book.friction_work;
+                for j in 1..4 {
+                    self.split[j] += 0.5 * h * (self.p_split[j] + ps[j]);
+                }
             }
+            self.p_split = ps;
             self.v_s = v;
             self.p_s = p_s;
             self.power_s = v * q_s;

@@ -86,6 +86,11 @@ pub(super) struct EnergyBook {
     pub(super) p_diss: f64,
     /// Penalty energy of the contact [J].
     pub(super) contact_energy: f64,
+    /// Diagnostic split of `dissipated` (not in the FMU state, restarts at a restore):
+    /// friction, contact normal damping, belt material, bearings and tensioner damper [J],
+    /// and the powers of the last three in the committed state [W].
+    pub(super) split: [f64; 4],
+    pub(super) p_split: [f64; 4],
 }
 
 impl EnergyBook {
@@ -110,6 +115,7 @@ impl EnergyBook {
             p_in: r.f64()?,
             p_diss: r.f64()?,
             contact_energy: r.f64()?,
+            ..Self::default()
         })
     }
 }
@@ -174,6 +180,12 @@ impl BeltDrive {
         self.energy.dissipated
     }
 
+    /// Diagnostic split of the dissipated energy since construction or the last restore:
+    /// friction, contact normal damping, belt material, bearings and tensioner damper [J].
+    pub fn dissipation_split(&self) -> [f64; 4] {
+        self.energy.split
+    }
+
     /// The history-dependent outputs of the committed state.
     pub(super) fn history_outputs(&self) -> StepRates {
         let (tight, slack) = if self.tensions.is_empty() {
@@ -204,6 +216,7 @@ impl BeltDrive {
         if self.spec.track_energy {
             let mut p_in = 0.0;
             let mut p_diss = contact.dissipation;
+            let mut ps = [0.0, contact.dissipation, 0.0, 0.0];
             for (k, p) in self.spec.pulleys.iter().enumerate() {
                 let om = self.v[self.pulley_dof[k]];
                 match p.kind {
@@ -211,11 +224,13 @@ impl BeltDrive {
                     PulleyKind::Free { damping, .. } => {
                         p_in += self.io[k].torque_in.at(t) * om;
                         p_diss += damping * om * om;
+                        ps[3] += damping * om * om;
                     }
                 }
             }
             if let Some(tn) = &self.tensioner {
                 p_diss += tn.def.damping * self.v[tn.dof].powi(2);
+                ps[3] += tn.def.damping * self.v[tn.dof].powi(2);
             }
             if !self.closed {
                 let last = (self.n_nodes - 1) * NC;
@@ -223,14 +238,21 @@ impl BeltDrive {
                     + self.end_loads[1].dot(&Vector2::new(self.v[last], self.v[last + 1]));
             }
             self.set.for_each_state(&self.q, &self.v, None, |_, el, s| {
-                p_diss += el.damping_power_at(s);
+                let pw = el.damping_power_at(s);
+                p_diss += pw;
+                ps[2] += pw;
             });
             let h = t - self.t;
             if !initial && h > 0.0 {
                 self.energy.input_work += 0.5 * h * (self.energy.p_in + p_in);
                 self.energy.dissipated +=
                     0.5 * h * (self.energy.p_diss + p_diss) + contact.friction_work;
+                self.energy.split[0] += contact.friction_work;
+                for j in 1..4 {
+                    self.energy.split[j] += 0.5 * h * (self.energy.p_split[j] + ps[j]);
+                }
             }
+            self.energy.p_split = ps;
             self.energy.p_in = p_in;
             self.energy.p_diss = p_diss;
         }
