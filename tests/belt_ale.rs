@@ -978,11 +978,12 @@ fn travel_work_diagnostic() {
         };
         let mut r = Run::new(&text);
         let read = |r: &Run| {
-            let (sw, split) = match r.sim.model_as::<AleDrive>() {
-                Some(a) => (a.sliding_work(), a.dissipation_split()),
+            let (sw, split, ts) = match r.sim.model_as::<AleDrive>() {
+                Some(a) => (a.sliding_work(), a.dissipation_split(), a.travel_split()),
                 None => (
                     0.0,
                     r.sim.model_as::<BeltDrive>().unwrap().dissipation_split(),
+                    [0.0; 3],
                 ),
             };
             [
@@ -994,6 +995,9 @@ fn travel_work_diagnostic() {
                 split[1],
                 split[2],
                 split[3],
+                ts[0],
+                ts[1],
+                ts[2],
             ]
         };
         let h = 1e-3;
@@ -1021,13 +1025,17 @@ fn travel_work_diagnostic() {
             }
         }
         let (a, b, c) = (first.unwrap(), read(&r), late.unwrap());
-        let d: Vec<f64> = (0..8).map(|j| b[j] - a[j]).collect();
-        let p: Vec<f64> = (0..8).map(|j| (b[j] - c[j]) / 0.1).collect();
+        let d: Vec<f64> = (0..11).map(|j| b[j] - a[j]).collect();
+        let p: Vec<f64> = (0..11).map(|j| (b[j] - c[j]) / 0.1).collect();
+        eprintln!(
+            "  travel work split: momentum {:.4} contact {:.4} damping {:.4} J",
+            d[8], d[9], d[10]
+        );
         eprintln!(
             "{} {scene} N {} h {} mu {} da {} w {w_end}: W {:.4} port {:.4} travel {:.4} dE {:.4} \
              D {:.4} [fric {:.4} norm {:.4} mat {:.4} bear {:.4}] mismatch {:+.3} % | last 0.1 s \
              power: in {:.2} port {:.2} travel {:.2} D {:.2} [fric {:.2} norm {:.2} mat {:.2} \
-             bear {:.2}] W",
+             bear {:.2}] W, travel [momentum {:.2} contact {:.2} damping {:.2}] W",
             if ale { "ALE" } else { "LAG" },
             env("TW_N", &n0[13..]),
             env("TW_H", "2.5e-4"),
@@ -1050,7 +1058,10 @@ fn travel_work_diagnostic() {
             p[4],
             p[5],
             p[6],
-            p[7]
+            p[7],
+            p[8],
+            p[9],
+            p[10]
         );
     }
 }

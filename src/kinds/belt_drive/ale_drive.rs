@@ -113,6 +113,10 @@ pub struct AleDrive {
     /// and the powers of the committed state [W].
     split: [f64; 4],
     p_split: [f64; 4],
+    /// Diagnostic split of `sliding_work` (not in the FMU state): `∫ v ṗ_s`, `−∫ v Q_s` of the
+    /// contact and of the material damping [J], and the two powers of the committed state [W].
+    travel_split: [f64; 3],
+    p_travel: [f64; 2],
     // work buffers
     trial: AleHistory,
     pulleys: Vec<AlePulley>,
@@ -321,6 +325,8 @@ impl AleDrive {
             sliding_work: 0.0,
             split: [0.0; 4],
             p_split: [0.0; 4],
+            travel_split: [0.0; 3],
+            p_travel: [0.0; 2],
             p_s: 0.0,
             power_s: 0.0,
             v_s: 0.0,
@@ -369,6 +375,13 @@ impl AleDrive {
     /// friction, contact normal damping, belt material, bearings and tensioner damper [J].
     pub fn dissipation_split(&self) -> [f64; 4] {
         self.split
+    }
+
+    /// Diagnostic split of [`Self::sliding_work`] since construction or the last restore:
+    /// `∫ v ṗ_s` (the travel's momentum), `−∫ v Q_s` of the contact and of the belt material's
+    /// damping [J].
+    pub fn travel_split(&self) -> [f64; 3] {
+        self.travel_split
     }
 
     /// Belt speed `v` of the committed state [m/s of reference length].
@@ -508,11 +521,16 @@ impl AleDrive {
                     0.5 * (self.v_s + v) * (p_s - self.p_s) - 0.5 * h * (self.power_s + v * q_s);
                 self.dissipated += 0.5 * h * (self.p_diss + p_diss) + book.friction_work;
                 self.split[0] += book.friction_work;
+                let q_d = q_s - force_s;
+                self.travel_split[0] += 0.5 * (self.v_s + v) * (p_s - self.p_s);
+                self.travel_split[1] -= 0.5 * h * (self.p_travel[0] + v * force_s);
+                self.travel_split[2] -= 0.5 * h * (self.p_travel[1] + v * q_d);
                 for j in 1..4 {
                     self.split[j] += 0.5 * h * (self.p_split[j] + ps[j]);
                 }
             }
             self.p_split = ps;
+            self.p_travel = [v * force_s, v * (q_s - force_s)];
             self.v_s = v;
             self.p_s = p_s;
             self.power_s = v * q_s;
