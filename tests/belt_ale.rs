@@ -490,7 +490,7 @@ fn energy_book(text: &str) -> (f64, f64, f64) {
         .model_as::<flexfmu::kinds::belt_drive::ale_drive::AleDrive>()
     {
         eprintln!(
-            "ALE: sliding work (in the input work) {:.4} J",
+            "ALE: sliding work (taken off the dissipated energy) {:.4} J",
             a.sliding_work()
         );
     }

@@ -591,8 +591,8 @@ fn energy_balance(form: Form) {
         100.0 * mismatch / w.abs()
     );
     if let Some(d) = r.sim.model_as::<AleDrive>() {
-        // the ALE book's work through the belt travel (a spatial discretization term, part
-        // of energy.input_work)
+        // the ALE book's work through the belt travel (a spatial discretization term,
+        // taken off energy.dissipated)
         println!(
             "Ale work through the belt travel {:.4} J ({:+.3} % of the input)",
             d.sliding_work(),

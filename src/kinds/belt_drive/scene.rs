@@ -624,12 +624,12 @@ pub fn io(s: &BeltDriveScene) -> KindIo<Input, Output> {
         };
         belt(
             "energy.input_work",
-            "Work done on the system by the driven pulleys and the input torques since the start (trapezoidal rule over the internal steps; ale: plus the work through the belt travel of the mesh's sliding gauge)",
+            "Work done on the system by the driven pulleys and the input torques since the start (trapezoidal rule over the internal steps)",
             BeltOutput::InputWork,
         );
         belt(
             "energy.dissipated",
-            "Energy dissipated since the start by contact damping, friction (including the bristle energy), material and bearing damping (ale: the material damping with the convective strain rate)",
+            "Energy dissipated since the start by contact damping, friction (including the bristle energy), material and bearing damping (ale: the material damping with the convective strain rate, net of the work through the belt travel that feeds it, a term of the fixed mesh)",
             BeltOutput::Dissipated,
         );
     }
