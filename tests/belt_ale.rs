@@ -463,28 +463,7 @@ fn energy_book(text: &str) -> (f64, f64, f64) {
         .replace("max_step = 1e-3", "max_step = 2.5e-4")
         .replace("damping = 0.2", "damping = 0.0");
     let mut r = Run::new(&text);
-    let read = |r: &Run| {
-        [
-            r.out("energy.input_work"),
-            r.out("energy.total"),
-            r.out("energy.dissipated"),
-        ]
-    };
-    let h = 1e-3;
-    let (mut angle, mut first) = (0.0, None);
-    for i in 0..600 {
-        let t = i as f64 * h;
-        let ramp = |t: f64| (t / 0.3).min(1.0);
-        let w = 0.5 * 60.0 * (ramp(t) + ramp(t + h));
-        r.set("pulley1.angle", angle);
-        r.set("pulley1.omega", w);
-        r.set("pulley2.torque_in", -10.0 * ramp(t));
-        r.sim
-            .advance(t + h)
-            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
-        angle += w * h;
-        first.get_or_insert(read(&r));
-    }
+    let book = booked_ramp(&mut r, 600, 0.3, &[("pulley2.torque_in", -10.0)]);
     if let Some(a) = r
         .sim
         .model_as::<flexfmu::kinds::belt_drive::ale_drive::AleDrive>()
@@ -494,7 +473,44 @@ fn energy_book(text: &str) -> (f64, f64, f64) {
             a.sliding_work()
         );
     }
-    let (a, b) = (first.unwrap(), read(&r));
+    book
+}
+
+/// Runs `r` for `steps` communication steps of 1 ms: pulley 1 ramped to 60 rad/s and the
+/// torque inputs `loads` (name, final value [N m]) to their values over `ramp_time` [s]. The
+/// energy book between the end of the first step and the end: input work `W`, change of the
+/// stored energy `ΔE` (`energy.total`) and dissipated energy `D`, `(W, ΔE, D)`.
+fn booked_ramp(
+    r: &mut Run,
+    steps: usize,
+    ramp_time: f64,
+    loads: &[(&str, f64)],
+) -> (f64, f64, f64) {
+    let read = |r: &Run| {
+        [
+            r.out("energy.input_work"),
+            r.out("energy.total"),
+            r.out("energy.dissipated"),
+        ]
+    };
+    let h = 1e-3;
+    let (mut angle, mut first) = (0.0, None);
+    for i in 0..steps {
+        let t = i as f64 * h;
+        let ramp = |t: f64| (t / ramp_time).min(1.0);
+        let w = 0.5 * 60.0 * (ramp(t) + ramp(t + h));
+        r.set("pulley1.angle", angle);
+        r.set("pulley1.omega", w);
+        for &(name, load) in loads {
+            r.set(name, load * ramp(t));
+        }
+        r.sim
+            .advance(t + h)
+            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
+        angle += w * h;
+        first.get_or_insert(read(r));
+    }
+    let (a, b) = (first.unwrap(), read(r));
     (b[0] - a[0], b[1] - a[1], b[2] - a[2])
 }
 
@@ -879,31 +895,12 @@ fn ale_serpentine_energy_balance() {
         .replace("max_step = 1e-3", "max_step = 2.5e-4");
     assert!(text.contains("rho_inf = 1.0") && text.contains("max_step = 2.5e-4"));
     let mut r = Run::new(&text);
-    let read = |r: &Run| {
-        [
-            r.out("energy.input_work"),
-            r.out("energy.total"),
-            r.out("energy.dissipated"),
-        ]
-    };
-    let h = 1e-3;
-    let (mut angle, mut first) = (0.0, None);
-    for i in 0..350 {
-        let t = i as f64 * h;
-        let ramp = |t: f64| (t / 0.2).min(1.0);
-        let w = 0.5 * 60.0 * (ramp(t) + ramp(t + h));
-        r.set("pulley1.angle", angle);
-        r.set("pulley1.omega", w);
-        r.set("pulley6.torque_in", -2.0 * ramp(t));
-        r.set("pulley7.torque_in", -4.0 * ramp(t));
-        r.sim
-            .advance(t + h)
-            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
-        angle += w * h;
-        first.get_or_insert(read(&r));
-    }
-    let (a, b) = (first.unwrap(), read(&r));
-    let (w, de, d) = (b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+    let (w, de, d) = booked_ramp(
+        &mut r,
+        350,
+        0.2,
+        &[("pulley6.torque_in", -2.0), ("pulley7.torque_in", -4.0)],
+    );
     let mismatch = w - de - d;
     eprintln!(
         "ALE serpentine: input work {w:.4} J, stored change {de:.4} J, dissipated {d:.4} J, \
