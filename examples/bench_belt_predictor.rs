@@ -15,7 +15,10 @@
 //! [both|on|off|percall] [name=value ...]` (defaults: belt_drive 100 1.0 both; further
 //! parameters by name, e.g. `solver.newton=1`, `belt.formulation=2` for the ALE belt, whose
 //! model has no transport predictor: run it with `on`; `BENCH_TRACE=1` prints the pulley
-//! speeds, the tensioner angle and the span tensions every 50 ms). `percall` runs the protocol with the predictor
+//! speeds, the tensioner angle and the span tensions every 50 ms; `BENCH_COMM=0.002` sets the
+//! communication step [s], default 1 ms; `BENCH_DERIV=1` gives the crank speed's slope over
+//! each communication step as an input derivative, as a master with `canInterpolateInputs`
+//! does; `BENCH_EXAMPLES=N` lists N rejected steps instead of 12). `percall` runs the protocol with the predictor
 //! to `t_end`, then times one Newton iteration's pieces on the state reached: the residual
 //! alone, the residual with the iteration matrix, a factorization and a solve [µs per call,
 //! best of 5 batches]. Timings are of this run on this machine: compare the ratios within one
@@ -178,7 +181,11 @@ fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String], per
     sim.initialize().unwrap();
     sim.log_rejections(true);
     let s0 = sim.stats();
-    let h = 1e-3;
+    // `BENCH_COMM=h`: the communication step [s] (default 1 ms)
+    let h: f64 = std::env::var("BENCH_COMM")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1e-3);
     let n = (t_end / h).round() as usize;
     // driver speed [rad/s] and load torque [N m] at time t
     let omega = |t: f64| -> f64 {
@@ -203,6 +210,7 @@ fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String], per
             -4.0 * (t / 0.3).min(1.0)
         }
     };
+    let deriv = std::env::var("BENCH_DERIV").is_ok_and(|v| v == "1");
     let mut causes = BTreeMap::new();
     let mut examples = Vec::new();
     let mut angle = 0.0;
@@ -211,6 +219,13 @@ fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String], per
         let t = i as f64 * h;
         sim.set_input(ia, angle);
         sim.set_input(iw, omega(t));
+        if deriv {
+            // the speed's slope over the step (`BENCH_DERIV=1`): the driven angle and
+            // speed then follow the master's ramp inside the step instead of jumping at
+            // its end
+            sim.set_input_derivative(iw, 1, (omega(t + h) - omega(t)) / h)
+                .unwrap();
+        }
         sim.set_input(it, load(t));
         if let Err(e) = sim.advance(t + h) {
             println!("  step at t = {t}: {}", e.message);
@@ -270,7 +285,12 @@ fn run(name: &str, n_el: i32, t_end: f64, predictor: bool, extra: &[String], per
                     what.split(' ').take(2).collect::<Vec<_>>().join(" ")
                 };
                 *causes.entry(format!("{cause}: {class}")).or_insert(0) += 1;
-                if examples.len() < 12 {
+                if examples.len()
+                    < std::env::var("BENCH_EXAMPLES")
+                        .ok()
+                        .and_then(|v| v.parse().ok())
+                        .unwrap_or(12)
+                {
                     examples.push(format!(
                         "t = {:.4} s h = {:.2e} s {cause} at {what}, scaled {:.3e}",
                         r.t, r.h, r.value

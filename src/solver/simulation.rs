@@ -400,7 +400,9 @@ impl Simulation {
         value: f64,
     ) -> Result<(), String> {
         self.model.set_input_derivative(kind, order, value)?;
-        self.inputs_changed = true;
+        if self.model.input_restarts_accelerations(kind) {
+            self.inputs_changed = true;
+        }
         Ok(())
     }
 
@@ -837,6 +839,10 @@ mod tests {
         t_fail: f64,
         q: f64,
         v: f64,
+        /// what `input_restarts_accelerations` answers
+        restarts: bool,
+        /// residual calls with the mass matrix alone: the acceleration restarts
+        restart_calls: usize,
     }
 
     impl MechanicalSystem for Oscillator {
@@ -864,6 +870,9 @@ mod tests {
             }
             r[0] = a[0] + q[0];
             if let Some((c, j)) = jac {
+                if c.stiffness == 0.0 && c.damping == 0.0 {
+                    self.restart_calls += 1;
+                }
                 j[0] = c.mass + c.stiffness;
             }
             Ok(())
@@ -897,7 +906,10 @@ mod tests {
             v[0] = self.v;
         }
         fn set_input_derivative(&mut self, _k: usize, _o: usize, _v: f64) -> Result<(), String> {
-            Err("no inputs".into())
+            Ok(())
+        }
+        fn input_restarts_accelerations(&self, _input: usize) -> bool {
+            self.restarts
         }
         fn output_derivative(&self, _k: usize) -> Option<f64> {
             Some(self.v)
@@ -915,12 +927,18 @@ mod tests {
     }
 
     fn sim(t_fail: f64) -> Simulation {
+        sim_with(t_fail, true)
+    }
+
+    fn sim_with(t_fail: f64, restarts: bool) -> Simulation {
         let model = Oscillator {
             pattern: CscPattern::from_entries(1, []),
             scales: vec![1.0],
             t_fail,
             q: 1.0,
             v: 0.0,
+            restarts,
+            restart_calls: 0,
         };
         let cfg = SolverConfig {
             integrator: Integrator::GeneralizedAlpha(GeneralizedAlpha::newmark()),
@@ -965,5 +983,24 @@ mod tests {
         let q = s.output(0);
         assert!((q - err.reached.cos()).abs() < 1e-4);
         assert!(err.message.contains("non-finite"), "{}", err.message);
+    }
+
+    /// An input derivative restarts the accelerations exactly when a new input value would
+    /// (`Model::input_restarts_accelerations`): a master that interpolates inputs
+    /// (`canInterpolateInputs`, `fmi2SetRealInputDerivatives` at every communication step)
+    /// must not make a model whose inputs are smooth motions re-solve its accelerations at
+    /// every step (it did: the ALE serpentine at 2 ms communication steps iterated 3x more).
+    #[test]
+    fn input_derivatives_restart_accelerations_only_when_the_model_asks() {
+        for restarts in [false, true] {
+            let mut s = sim_with(f64::INFINITY, restarts);
+            let start = s.model_as::<Oscillator>().unwrap().restart_calls;
+            for k in 1..=5 {
+                s.set_input_derivative(0, 1, 0.5).unwrap();
+                s.advance(0.01 * k as f64).unwrap();
+            }
+            let calls = s.model_as::<Oscillator>().unwrap().restart_calls - start;
+            assert_eq!(calls, if restarts { 5 } else { 0 }, "restarts {restarts}");
+        }
     }
 }
