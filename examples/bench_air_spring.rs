@@ -511,8 +511,14 @@ fn fmi_rows() {
             vec![],
         ));
     }
+    // `BENCH_FMI_ALL=0` reads `top.fz` only (for profiles of the step itself)
+    let alls: &[bool] = if std::env::var("BENCH_FMI_ALL").is_ok_and(|v| v == "0") {
+        &[false]
+    } else {
+        &[false, true]
+    };
     for (label, name, ov) in &cases {
-        for all in [false, true] {
+        for &all in alls {
             let t = fmi_step_time(name, ov, all);
             // three significant digits: level 1 runs below real time
             let rt = STEP / t;

@@ -42,12 +42,14 @@ width) runs the same protocol at --elements-3d (issue 13 item 5: real time at 12
 The drive and the soft belt as axially moving (ALE) belts (`belt.formulation` = 2: the mesh
 fixed to the loop's shape, the material flowing through it) run it at --ale-elements, the serpentine
 as an ALE belt at --serpentine-ale-elements (alternated with the Lagrangian serpentine of the same
-count, --serpentine-repeat times).
+count, --serpentine-repeat times). With --input-derivatives the master also gives the driver speed's
+slope at every communication step (fmi2SetRealInputDerivatives, as a master that uses the FMUs'
+canInterpolateInputs does); the angle and speed then follow the master's ramp inside each step.
 
 Usage: python scripts/bench_belt.py [--elements 16 25 50 100 120 200 400] [--t-end 1.0]
        [--soft-elements 120] [--ale-elements 60 120 240] [--elements-3d 60 120 240] [--serpentine-t-end 0.5]
        [--serpentine-ale-elements 60 120] [--serpentine-repeat 3]
-       [--exudyn-t-end 10] [--no-exudyn]
+       [--exudyn-t-end 10] [--no-exudyn] [--input-derivatives]
        [--exudyn-layout]
 Writes build/bench/belt.csv and build/bench/belt.png.
 """
@@ -81,6 +83,17 @@ def drive(t):
 SOFT = {"belt.EA": 8000.0, "belt.pretension": 400.0, "contact.mu": 0.5}
 # the axially moving (ALE) formulation of the same drive (`belt.formulation` = 2, "ale")
 ALE = {"belt.formulation": 2}
+# `--input-derivatives`: give the driver speed's slope over every communication step with
+# fmi2SetRealInputDerivatives, as a master with canInterpolateInputs does (fmpy's
+# `simulate_fmu(..., set_input_derivatives=True)`); without it the FMU extrapolates the angle
+# with the constant speed and the master's next angle lands off that line by alpha h^2 / 2
+INPUT_DERIVATIVES = False
+
+
+def set_speed_slope(fmu, name, w0, w1, h):
+    """The speed input's derivative over the coming step (only with --input-derivatives)."""
+    if INPUT_DERIVATIVES:
+        fmu.slave.setRealInputDerivatives([fmu.vr[name]], [1], [(w1 - w0) / h])
 
 
 def run_flexfmu(n_el, t_end, h=1e-3, case="belt_drive"):
@@ -100,6 +113,7 @@ def run_flexfmu(n_el, t_end, h=1e-3, case="belt_drive"):
             t = i * h
             w, a = drive(t)
             fmu.set(pulley1__angle=a, pulley1__omega=w, pulley2__torque_in=-LOAD * min(t / T_RAMP, 1.0))
+            set_speed_slope(fmu, "pulley1.omega", w, drive(t + h)[0], h)
             if not fmu.step(t, h):
                 raise RuntimeError(f"FMU step failed at t = {t}")
             w2, tight, slack = fmu.get("pulley2.omega", "belt.tension_tight", "belt.tension_slack")
@@ -209,6 +223,7 @@ def run_serpentine(n_el, t_end, h=1e-3, ale=False):
             t = i * h
             w, load = serpentine_inputs(t, t_end)
             fmu.set(pulley1__angle=angle, pulley1__omega=w, pulley7__torque_in=load)
+            set_speed_slope(fmu, "pulley1.omega", w, serpentine_inputs(t + h, t_end)[0], h)
             if not fmu.step(t, h):
                 raise RuntimeError(f"FMU step failed at t = {t}")
             angle += 0.5 * (w + serpentine_inputs(t + h, t_end)[0]) * h
@@ -363,8 +378,14 @@ def main():
     ap.add_argument("--exudyn-t-end", type=float, default=10.0,
                     help="simulated time of Exudyn's test model [s] (its own end time: 10 s)")
     ap.add_argument("--no-exudyn", action="store_true", help="skip Exudyn's test model")
+    ap.add_argument("--input-derivatives", action="store_true",
+                    help="set the driver speed's derivative at every communication step (canInterpolateInputs)")
     ap.add_argument("--exudyn-layout", action="store_true", help="also run the indicative Exudyn layout model")
     args = ap.parse_args()
+    global INPUT_DERIVATIVES
+    INPUT_DERIVATIVES = args.input_derivatives
+    if INPUT_DERIVATIVES:
+        print("input derivatives: the driver speed's slope is set at every communication step", flush=True)
 
     def fmt(r):
         return (f"{r['tool']:8s} {r['case']:26s} {r['elements']:8d} {1e3 * r['step_s']:6.2f} {r['t_end']:6.2f} "
