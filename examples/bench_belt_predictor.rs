@@ -18,7 +18,9 @@
 //! speeds, the tensioner angle and the span tensions every 50 ms; `BENCH_COMM=0.002` sets the
 //! communication step [s], default 1 ms; `BENCH_DERIV=1` gives the crank speed's slope over
 //! each communication step as an input derivative, as a master with `canInterpolateInputs`
-//! does; `BENCH_EXAMPLES=N` lists N rejected steps instead of 12). `percall` runs the protocol with the predictor
+//! does; `BENCH_ANGLE_EXTRAP=1` advances the crank angle input with the step-start speed, as the
+//! FMU extrapolates it, instead of the trapezoidal rule, so that the angle input does not jump
+//! at communication points; `BENCH_EXAMPLES=N` lists N rejected steps instead of 12). `percall` runs the protocol with the predictor
 //! to `t_end`, then times one Newton iteration's pieces on the state reached: the residual
 //! alone, the residual with the iteration matrix, a factorization and a solve [µs per call,
 //! best of 5 batches]. Timings are of this run on this machine: compare the ratios within one
