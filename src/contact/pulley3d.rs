@@ -993,4 +993,39 @@ mod tests {
         let mut r = StateReader::new(&bytes);
         assert_eq!(Pulley3dHistory::restore(&mut r).unwrap(), h);
     }
+
+    /// A pair committed out of contact keeps its polar angle untaken: the angle taken later
+    /// is the one the commit would have taken (to the bit, in every quadrant), it survives a
+    /// snapshot, its bristle is unloaded, and the slip increment of a point landing from it is
+    /// the arc it moved along.
+    #[test]
+    fn untaken_polar_angle_is_the_committed_one() {
+        let pul = pulley(0.0);
+        for k in 0..16 {
+            let phi = -3.1 + 0.41 * k as f64;
+            let r = at(&pul, phi, pul.radius + 0.02, 1e-3);
+            let m = PointMotion {
+                r,
+                v: Vector3::zeros(),
+            };
+            let h = pul.committed(&m, &[0.3], None);
+            assert!(h.phi.is_nan());
+            let (_, dr) = pul.frame_radial(&r);
+            assert_eq!(h.polar_angle().to_bits(), pul.polar_angle_of(&dr).to_bits());
+            assert!((h.polar_angle() - phi).abs() < 1e-12);
+            assert_eq!(h.bristle(), [0.0; 2]);
+            assert_eq!(h.f, [0.0; 2]);
+            let mut w = StateWriter::new();
+            h.save(&mut w);
+            let bytes = w.into_bytes();
+            let back = Pulley3dHistory::restore(&mut StateReader::new(&bytes)).unwrap();
+            assert_eq!(back.polar_angle().to_bits(), h.polar_angle().to_bits());
+            // landing 1e-3 rad further on, pulley at rest: circumferential slip ρ Δφ
+            let r1 = at(&pul, phi + 1e-3, pul.radius - 1e-5, 1e-3);
+            let c = evaluate(&pul, &law(), 0.01, &PointMotion { r: r1, v: m.v }, 0.3, 0.0, &h)
+                .expect("in contact");
+            let rho = pul.radius - 1e-5;
+            assert!((c.slip_increment[0] - rho * 1e-3).abs() < 1e-12, "{c:?}");
+        }
+    }
 }
