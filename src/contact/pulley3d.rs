@@ -1022,8 +1022,16 @@ mod tests {
             assert_eq!(back.polar_angle().to_bits(), h.polar_angle().to_bits());
             // landing 1e-3 rad further on, pulley at rest: circumferential slip ρ Δφ
             let r1 = at(&pul, phi + 1e-3, pul.radius - 1e-5, 1e-3);
-            let c = evaluate(&pul, &law(), 0.01, &PointMotion { r: r1, v: m.v }, 0.3, 0.0, &h)
-                .expect("in contact");
+            let c = evaluate(
+                &pul,
+                &law(),
+                0.01,
+                &PointMotion { r: r1, v: m.v },
+                0.3,
+                0.0,
+                &h,
+            )
+            .expect("in contact");
             let rho = pul.radius - 1e-5;
             assert!((c.slip_increment[0] - rho * 1e-3).abs() < 1e-12, "{c:?}");
         }
