@@ -121,8 +121,15 @@ impl Pulley3d {
     /// `atan2`: only where the slip or the history needs it, after the gap test).
     #[inline]
     fn polar_angle_of(&self, dr: &Vector3<f64>) -> f64 {
+        let [x, y] = self.polar_components(dr);
+        y.atan2(x)
+    }
+
+    /// Components `(d_r·u1, d_r·u2)` of a radial vector in the basis of the polar angle.
+    #[inline]
+    fn polar_components(&self, dr: &Vector3<f64>) -> [f64; 2] {
         let u2 = self.axis.cross(&self.u1);
-        dr.dot(&u2).atan2(dr.dot(&self.u1))
+        [dr.dot(&self.u1), dr.dot(&u2)]
     }
 
     /// Pitch radius of the rim at axial position ζ: `R(ζ)`, `R'`, `R''` [m, 1, 1/m].
@@ -188,18 +195,45 @@ struct PointFrame {
 }
 
 /// Committed history of one (belt point, 3D pulley) pair.
+///
+/// A pair out of contact at the commit keeps its polar angle untaken (an `atan2` per pair and
+/// step, most of them never needed): `phi` is NaN and `z` holds the components `(d_r·u1,
+/// d_r·u2)` of the point's radial vector, whose `atan2` is the angle
+/// ([`Self::polar_angle`], the same operations as an angle taken at the commit); its bristle
+/// deflection is zero ([`Self::bristle`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Pulley3dHistory {
-    /// Polar angle of the point about the axis at the last accepted step [rad].
+    /// Polar angle of the point about the axis at the last accepted step [rad] (NaN: not
+    /// taken, see the type's notes).
     pub phi: f64,
     /// Axial position of the point at the last accepted step [m].
     pub zeta: f64,
     /// Pulley angle at the last accepted step [rad].
     pub theta: f64,
-    /// Bristle deflection (circumferential, axial) [m] (0 out of contact).
+    /// Bristle deflection (circumferential, axial) [m] (0 out of contact; the radial
+    /// components [m] while `phi` is NaN).
     pub z: [f64; 2],
     /// Friction per unit length (circumferential, axial) at the last accepted step [N/m].
     pub f: [f64; 2],
+}
+
+impl Pulley3dHistory {
+    /// Polar angle of the point about the axis at the last accepted step [rad] (taken here
+    /// for a pair that was out of contact).
+    #[inline]
+    pub fn polar_angle(&self) -> f64 {
+        if self.phi.is_nan() {
+            self.z[1].atan2(self.z[0])
+        } else {
+            self.phi
+        }
+    }
+
+    /// Bristle deflection (circumferential, axial) at the last accepted step [m].
+    #[inline]
+    pub fn bristle(&self) -> [f64; 2] {
+        if self.phi.is_nan() { [0.0; 2] } else { self.z }
+    }
 }
 
 impl ContactHistory for Pulley3dHistory {
@@ -294,11 +328,11 @@ fn rim(
     }
 
     // slip increment and rate in (t, a)
-    let dphi = wrap_angle(res.phi - hist.phi);
+    let dphi = wrap_angle(res.phi - hist.polar_angle());
     let dtheta = theta - hist.theta;
     let ds = Vector2::new(rho * dphi - rz * dtheta, zeta - hist.zeta);
     let sdot = Vector2::new(vt - omega * rz, va);
-    let ftr = law.k_t * (Vector2::from(hist.z) + ds) + law.d_t * sdot;
+    let ftr = law.k_t * (Vector2::from(hist.bristle()) + ds) + law.d_t * sdot;
 
     // return mapping: f = cap φ(x) f*/|f*|, x = |f*|/cap
     let cap = law.mu * pr;
@@ -386,7 +420,7 @@ fn rim(
     res.pressure = pr;
     res.slipping = cap <= 0.0 || nf >= cap;
     res.z = if law.k_t > 0.0 {
-        let zt = (Vector2::from(hist.z) + ds) * bristle_factor(f.norm(), nf);
+        let zt = (Vector2::from(hist.bristle()) + ds) * bristle_factor(f.norm(), nf);
         [zt[0], zt[1]]
     } else {
         [0.0; 2]
@@ -601,13 +635,25 @@ impl Obstacle<3> for Pulley3d {
     ) -> Pulley3dHistory {
         let (fr, dr) = self.frame_radial(&p.r);
         let zeta = fr.zeta;
-        // the evaluation's polar angle where there is one (the same operations)
-        let phi = c.map_or_else(|| self.polar_angle_of(&dr), |c| c.phi);
-        let (z, f) = c
-            .filter(|c| c.pressure > 0.0)
-            .map_or(([0.0; 2], [0.0; 2]), |c| (c.z, c.friction));
+        let Some(c) = c else {
+            // out of contact: the polar angle is taken only if the pair touches in the next
+            // step (see [`Pulley3dHistory`])
+            return Pulley3dHistory {
+                phi: f64::NAN,
+                zeta,
+                theta: x[0],
+                z: self.polar_components(&dr),
+                f: [0.0; 2],
+            };
+        };
+        // the evaluation's polar angle (the same operations)
+        let (z, f) = if c.pressure > 0.0 {
+            (c.z, c.friction)
+        } else {
+            ([0.0; 2], [0.0; 2])
+        };
         Pulley3dHistory {
-            phi,
+            phi: c.phi,
             zeta,
             theta: x[0],
             z,
@@ -946,5 +992,48 @@ mod tests {
         let bytes = w.into_bytes();
         let mut r = StateReader::new(&bytes);
         assert_eq!(Pulley3dHistory::restore(&mut r).unwrap(), h);
+    }
+
+    /// A pair committed out of contact keeps its polar angle untaken: the angle taken later
+    /// is the one the commit would have taken (to the bit, in every quadrant), it survives a
+    /// snapshot, its bristle is unloaded, and the slip increment of a point landing from it is
+    /// the arc it moved along.
+    #[test]
+    fn untaken_polar_angle_is_the_committed_one() {
+        let pul = pulley(0.0);
+        for k in 0..16 {
+            let phi = -3.1 + 0.41 * k as f64;
+            let r = at(&pul, phi, pul.radius + 0.02, 1e-3);
+            let m = PointMotion {
+                r,
+                v: Vector3::zeros(),
+            };
+            let h = pul.committed(&m, &[0.3], None);
+            assert!(h.phi.is_nan());
+            let (_, dr) = pul.frame_radial(&r);
+            assert_eq!(h.polar_angle().to_bits(), pul.polar_angle_of(&dr).to_bits());
+            assert!((h.polar_angle() - phi).abs() < 1e-12);
+            assert_eq!(h.bristle(), [0.0; 2]);
+            assert_eq!(h.f, [0.0; 2]);
+            let mut w = StateWriter::new();
+            h.save(&mut w);
+            let bytes = w.into_bytes();
+            let back = Pulley3dHistory::restore(&mut StateReader::new(&bytes)).unwrap();
+            assert_eq!(back.polar_angle().to_bits(), h.polar_angle().to_bits());
+            // landing 1e-3 rad further on, pulley at rest: circumferential slip ρ Δφ
+            let r1 = at(&pul, phi + 1e-3, pul.radius - 1e-5, 1e-3);
+            let c = evaluate(
+                &pul,
+                &law(),
+                0.01,
+                &PointMotion { r: r1, v: m.v },
+                0.3,
+                0.0,
+                &h,
+            )
+            .expect("in contact");
+            let rho = pul.radius - 1e-5;
+            assert!((c.slip_increment[0] - rho * 1e-3).abs() < 1e-12, "{c:?}");
+        }
     }
 }
