@@ -1072,6 +1072,12 @@ fn travel_work_diagnostic() {
             }
         }
         let (a, b, c) = (first.unwrap(), read(&r), late.unwrap());
+        let st = r.sim.stats();
+        eprintln!(
+            "  Newton: {:.3} iterations, {:.3} factorizations per step",
+            st.newton.iterations as f64 / steps as f64,
+            st.newton.factorizations as f64 / steps as f64
+        );
         let d: Vec<f64> = (0..11).map(|j| b[j] - a[j]).collect();
         let p: Vec<f64> = (0..11).map(|j| (b[j] - c[j]) / 0.1).collect();
         eprintln!(
