@@ -102,14 +102,18 @@ fn with_gravity(text: &str, g: f64) -> String {
 /// The shipped drive under a strong gravity (−100 m/s² along y: the belt's weight 15 N/m, so
 /// that the sag moves the span tensions by a few newtons) at 10 N m, 60 rad/s (the protocol of
 /// [`Run::steady`]): the ALE drive's T1, T2 and ω2 within 0.5 % of the Lagrangian drive's,
-/// and the change of T1 and T2 that gravity causes within 10 % of the Lagrangian drive's;
+/// and the change of T1 and T2 that gravity causes within 10 % of the Lagrangian drive's (on 200
+/// elements, where that change is nearer mesh convergence than on the scene's 100);
 /// with 9.81 m/s² the energy balance, the gravity potential in the stored energy, within 1 %
 /// of the input work (as without gravity). (The torque balance of
 /// [`steady_against_lagrangian`] does not hold under −100 m/s² for either drive: the span
 /// tension varies along a sagging span.)
 #[test]
 fn ale_drive_with_gravity_matches_the_lagrangian_drive() {
-    let plain = scene_text("belt_drive.toml");
+    // 200 elements: the slack side's shift is not mesh-converged at the scene's 100 (the
+    // Lagrangian drive's −0.630 N there against −0.337 N on 200; `gravity_shift_diagnostic`)
+    let plain = scene_text("belt_drive.toml").replace("n_elements = 100", "n_elements = 200");
+    assert!(plain.contains("n_elements = 200"));
     let heavy = with_gravity(&plain, -100.0);
     let run = |text: &str| Run::new(text).steady(60.0, 10.0, 1.0);
     let ale = |text: &str| with_belt_key_in(text, "formulation = \"ale\"");
@@ -128,7 +132,7 @@ fn ale_drive_with_gravity_matches_the_lagrangian_drive() {
     }
     for j in 0..2 {
         let (da, dl) = (ale_g[j] - ale0[j], lag_g[j] - lag0[j]);
-        assert!(dl.abs() > 0.5, "gravity moves the tension: {dl}");
+        assert!(dl.abs() > 0.3, "gravity moves the tension: {dl}");
         assert!(
             (da / dl - 1.0).abs() < 0.1,
             "{j}: gravity moves the ALE tension by {da} N, the Lagrangian by {dl} N"
@@ -145,6 +149,38 @@ fn ale_drive_with_gravity_matches_the_lagrangian_drive() {
         100.0 * mismatch / w
     );
     assert!(mismatch.abs() < 0.01 * w);
+}
+
+/// Diagnostic (not a check): the tension shifts of [`ale_drive_with_gravity_matches_the_lagrangian_drive`]
+/// with `GD_N` elements and internal steps of at most `GD_H` [s] (both drives).
+#[test]
+#[ignore = "diagnostic"]
+fn gravity_shift_diagnostic() {
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
+    let plain = scene_text("belt_drive.toml")
+        .replace(
+            "n_elements = 100",
+            &format!("n_elements = {}", env("GD_N", "100")),
+        )
+        .replace(
+            "max_step = 1e-3",
+            &format!("max_step = {}", env("GD_H", "1e-3")),
+        );
+    let heavy = with_gravity(&plain, -100.0);
+    let run = |text: &str| Run::new(text).steady(60.0, 10.0, 1.0);
+    let ale = |text: &str| with_belt_key_in(text, "formulation = \"ale\"");
+    for (name, a, b) in [
+        ("Lagrangian", plain.clone(), heavy.clone()),
+        ("ALE", ale(&plain), ale(&heavy)),
+    ] {
+        let (t0, tg) = (run(&a), run(&b));
+        eprintln!(
+            "{name}: gravity shifts T1 by {:.4} N, T2 by {:.4} N (T2 {:.4} N)",
+            tg[0] - t0[0],
+            tg[1] - t0[1],
+            tg[1]
+        );
+    }
 }
 
 #[test]
@@ -862,16 +898,30 @@ fn serpentine_steady_at_speed() {
     let env = |k: &str, d: f64| std::env::var(k).map_or(d, |s| s.parse().unwrap());
     let omega = env("SERP_RPM", 3000.0) * std::f64::consts::PI / 30.0;
     let n = format!("n_elements = {}", env("SERP_N", 120.0));
-    let ale = serpentine_steady(
-        &serpentine_ale().replace("n_elements = 120", &n),
-        env("SERP_ALE_H", 1e-3),
-        omega,
-    );
-    let lag = serpentine_steady(
-        &scene_text("serpentine.toml").replace("n_elements = 120", &n),
-        env("SERP_LAG_H", 1e-4),
-        omega,
-    );
+    let n_lag = format!("n_elements = {}", env("SERP_LAG_N", env("SERP_N", 120.0)));
+    // SERP_PRE: the pre-tension [N]; SERP_FORM: `ale` or `lag` runs only that drive (the other
+    // column repeats it)
+    let pre = format!("pretension = {:.1} ", env("SERP_PRE", 350.0));
+    let form = std::env::var("SERP_FORM").unwrap_or_default();
+    let edit = |t: String, n: &str| {
+        t.replace("n_elements = 120", n)
+            .replace("pretension = 350.0 ", &pre)
+    };
+    let ale = (form != "lag")
+        .then(|| serpentine_steady(&edit(serpentine_ale(), &n), env("SERP_ALE_H", 1e-3), omega));
+    let lag = (form != "ale").then(|| {
+        serpentine_steady(
+            &edit(scene_text("serpentine.toml"), &n_lag),
+            env("SERP_LAG_H", 1e-4),
+            omega,
+        )
+    });
+    let (ale, lag) = match (ale, lag) {
+        (Some(a), Some(l)) => (a, l),
+        (Some(a), None) => (a.clone(), a),
+        (None, Some(l)) => (l.clone(), l),
+        (None, None) => unreachable!(),
+    };
     for j in 0..ale.len() {
         eprintln!(
             "{j:2} ALE {:12.6} Lagrangian {:12.6} ({:+.3} %)",
@@ -1022,6 +1072,12 @@ fn travel_work_diagnostic() {
             }
         }
         let (a, b, c) = (first.unwrap(), read(&r), late.unwrap());
+        let st = r.sim.stats();
+        eprintln!(
+            "  Newton: {:.3} iterations, {:.3} factorizations per step",
+            st.newton.iterations as f64 / steps as f64,
+            st.newton.factorizations as f64 / steps as f64
+        );
         let d: Vec<f64> = (0..11).map(|j| b[j] - a[j]).collect();
         let p: Vec<f64> = (0..11).map(|j| (b[j] - c[j]) / 0.1).collect();
         eprintln!(

@@ -595,6 +595,80 @@ fn convective_damping_tangent_matches_finite_differences() {
     }
 }
 
+/// The streamline-upwind weighting of the convective damping: its tangent in `q` and its
+/// derivative in `v` against central differences (at both signs of `v`), added to what the
+/// caller's matrix holds; its power is `q̇·f_u`; its coefficient is `(d v)² L/(EA L + 2 d |v|)`
+/// (even in `v`), and it vanishes without damping or for a uniformly strained straight element;
+/// the fused kernel is the sum of the Galerkin part and the upwinding.
+#[test]
+fn convective_upwinding_tangent_matches_finite_differences() {
+    let q = deformed();
+    let qd = ElemVec::from_column_slice(&[0.3, -0.2, 0.5, 1.0, -0.4, 0.1, 0.7, -0.3]);
+    for v in [13.0, -7.0] {
+        for rule in RULES {
+            let el = AncfCable2d::new(L, damped(), rule);
+            let s = damped();
+            let (c, _) = el.upwinding_coefficient(v);
+            let expect =
+                (s.damping_axial * v).powi(2) * L / (s.ea * L + 2.0 * s.damping_axial * v.abs());
+            assert!((c - expect).abs() <= 1e-14 * expect, "{c} {expect}");
+            let mut x0 = q.as_slice().to_vec();
+            x0.push(v);
+            let force = |x: &[f64], out: &mut [f64]| {
+                let mut f = ElemVec::zeros();
+                el.convective_upwinding_into(
+                    &ElemVec::from_column_slice(&x[..8]),
+                    x[8],
+                    &mut f,
+                    None,
+                );
+                out.copy_from_slice(f.as_slice());
+            };
+            let mut f = ElemVec::zeros();
+            let base = ElemMat::from_element(0.25);
+            let (mut k, mut dv) = (base, ElemVec::from_element(0.5));
+            let (mut k2, mut dv2) = (base, ElemVec::zeros());
+            el.convective_upwinding_into(&q, v, &mut f, Some((&mut k, &mut dv)));
+            assert!(f.norm() > 0.0);
+            let mut analytic = nalgebra::DMatrix::zeros(8, 9);
+            analytic.view_mut((0, 0), (8, 8)).copy_from(&(k - base));
+            analytic.view_mut((0, 8), (8, 1)).copy_from(&dv);
+            // together with the Galerkin part: the sum of the two
+            let mut f2 = ElemVec::zeros();
+            el.convective_damping_upwinded_into(&q, v, &mut f2, Some((&mut k2, &mut dv2)));
+            let (mut f3, mut k3, mut dv3) = (ElemVec::zeros(), ElemMat::zeros(), ElemVec::zeros());
+            el.convective_damping_into(&q, v, &mut f3, Some((&mut k3, &mut dv3)));
+            assert!((f2 - f3 - f).norm() <= 1e-12 * f2.norm());
+            assert!((k2 - base - k3 - (k - base)).norm() <= 1e-12 * k2.norm());
+            assert!((dv2 - dv3 - dv).norm() <= 1e-12 * dv2.norm());
+            fd::assert_jacobian(
+                &format!("{rule:?}, v = {v}: convective upwinding"),
+                &analytic,
+                &x0,
+                1e-7,
+                1e-6,
+                force,
+            );
+            let p = el.upwinding_power(&q, &qd, v);
+            assert!(
+                (p - f.dot(&qd)).abs() <= 1e-10 * f.norm() * qd.norm(),
+                "{p}"
+            );
+            // uniform strain along a straight element: nothing
+            let straight = straight_coordinates(
+                Vector2::new(0.1, 0.2),
+                Vector2::new(0.1 + 0.606 * L, 0.2 + 0.808 * L),
+                1.01,
+            );
+            let mut z = ElemVec::zeros();
+            el.convective_upwinding_into(&straight, v, &mut z, None);
+            assert!(z.norm() <= 1e-12, "{z}");
+            AncfCable2d::new(L, section(), rule).convective_upwinding_into(&q, v, &mut z, None);
+            assert!(z.norm() <= 1e-12, "{z}");
+        }
+    }
+}
+
 /// Round a closed loop the boundary terms cancel (the premise of the ALE belt's band matrices):
 /// on a ring of 12 elements wrapping an ellipse (C¹ at the nodes), the assembled `G` is skew
 /// and the assembled `−H q` equals the assembled `ρA ∫ Sᵀ r'' dx` (5-point Gauss, exact); on

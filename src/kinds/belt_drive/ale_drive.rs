@@ -516,6 +516,9 @@ impl AleDrive {
             for e in 0..self.n {
                 let (qe, qde) = (self.ring.gather(&x, e), self.ring.gather(&xd, e));
                 let (pw, fs) = self.ring.cable.ale_damping_terms(&qe, &qde, v);
+                // the upwinding's force is booked with the material damping (its power
+                // through the mesh rates; it does not act on the travel)
+                let pw = pw + self.ring.cable.upwinding_power(&qe, &qde, v);
                 p_diss += pw;
                 ps[2] += pw;
                 q_s += fs;
