@@ -14,7 +14,8 @@
 //! Run: `cargo run --release --example bench_belt_predictor [scene] [n_elements] [t_end]
 //! [both|on|off|percall] [name=value ...]` (defaults: belt_drive 100 1.0 both; further
 //! parameters by name, e.g. `solver.newton=1`, `belt.formulation=2` for the ALE belt, whose
-//! model has no transport predictor: run it with `on`; `BENCH_TRACE=1` prints the pulley
+//! model has no transport predictor: run it with `on` (the shipped serpentine is an ALE belt
+//! since session 38: `belt.formulation=1` for its Lagrangian drive); `BENCH_TRACE=1` prints the pulley
 //! speeds, the tensioner angle and the span tensions every 50 ms; `BENCH_COMM=0.002` sets the
 //! communication step [s], default 1 ms; `BENCH_DERIV=1` gives the crank speed's slope over
 //! each communication step as an input derivative, as a master with `canInterpolateInputs`

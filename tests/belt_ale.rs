@@ -17,9 +17,13 @@ fn scene_text(name: &str) -> String {
 
 /// The scene `name` with `key = value` added at the end of its `[belt]` table.
 fn with_belt_key(name: &str, line: &str) -> String {
-    let text = scene_text(name);
-    let at = text.find("[belt]").unwrap() + "[belt]".len();
-    format!("{}\n{line}{}", &text[..at], &text[at..])
+    with_belt_key_in(&scene_text(name), line)
+}
+
+/// `text` with the Lagrangian belt asked for by name (the shipped serpentine is an ALE belt
+/// since session 38).
+fn lagrangian(text: &str) -> String {
+    with_belt_key_in(text, "formulation = \"lagrangian\"")
 }
 
 fn build(text: &str) -> Result<BeltDrive, String> {
@@ -302,9 +306,18 @@ fn ale_text() -> String {
     with_belt_key("belt_drive.toml", "formulation = \"ale\"")
 }
 
+/// `text` with `line` (`key = value`) in its `[belt]` table, replacing the key's line there if
+/// the scene has one.
 fn with_belt_key_in(text: &str, line: &str) -> String {
+    let key = line.split('=').next().unwrap().trim();
     let at = text.find("[belt]").unwrap() + "[belt]".len();
-    format!("{}\n{line}{}", &text[..at], &text[at..])
+    let end = text[at..].find("\n[").map_or(text.len(), |e| at + e);
+    let table: String = text[at..end]
+        .lines()
+        .filter(|l| l.split('=').next().map(str::trim) != Some(key))
+        .collect::<Vec<_>>()
+        .join("\n");
+    format!("{}\n{line}{table}{}", &text[..at], &text[end..])
 }
 
 /// The soft belt of issue 12 (EA 8000 N, pre-tension 400 N, μ 0.5, 120 elements) on the
@@ -668,7 +681,7 @@ fn serpentine_axial_force_profile() {
         let text = if ale {
             with_belt_key_in(&text, "formulation = \"ale\"")
         } else {
-            text
+            lagrangian(&text)
         };
         let mut r = Run::new(&text);
         let h = 1e-3;
@@ -828,7 +841,7 @@ fn serpentine_steady(text: &str, h_max: f64, omega: f64) -> Vec<f64> {
 fn ale_serpentine_at_800_rpm_matches_the_lagrangian_drive() {
     let omega = 800.0 * std::f64::consts::PI / 30.0;
     let ale = serpentine_steady(&serpentine_ale(), 1e-3, omega);
-    let lag = serpentine_steady(&scene_text("serpentine.toml"), 1e-4, omega);
+    let lag = serpentine_steady(&lagrangian(&scene_text("serpentine.toml")), 1e-4, omega);
     let what = |j: usize| match j {
         0..6 => format!("pulley{}.omega", j + 2),
         6 => "tensioner.angle".into(),
@@ -911,7 +924,7 @@ fn serpentine_steady_at_speed() {
         .then(|| serpentine_steady(&edit(serpentine_ale(), &n), env("SERP_ALE_H", 1e-3), omega));
     let lag = (form != "ale").then(|| {
         serpentine_steady(
-            &edit(scene_text("serpentine.toml"), &n_lag),
+            &edit(lagrangian(&scene_text("serpentine.toml")), &n_lag),
             env("SERP_LAG_H", 1e-4),
             omega,
         )
@@ -1021,7 +1034,7 @@ fn travel_work_diagnostic() {
         let text = if ale {
             with_belt_key_in(&text, "formulation = \"ale\"")
         } else {
-            text.clone()
+            lagrangian(&text)
         };
         let mut r = Run::new(&text);
         let read = |r: &Run| {
