@@ -1180,8 +1180,13 @@ mod tests {
     /// pulley 1 speeding up to 6 rad/s and the load `load` on pulley 2.
     fn running_scene(name: &str, elements: (&str, &str), load: f64) -> AleDrive {
         let text = std::fs::read_to_string(format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR")))
-            .unwrap()
-            .replace("[belt]", "[belt]\nformulation = \"ale\"");
+            .unwrap();
+        // the ALE belt (the shipped serpentine says so itself since session 38)
+        let text = if text.contains("formulation = \"ale\"") {
+            text
+        } else {
+            text.replace("[belt]", "[belt]\nformulation = \"ale\"")
+        };
         assert!(text.contains(elements.0));
         let text = text.replace(elements.0, elements.1);
         let scene = Scene::from_toml(&text).unwrap();

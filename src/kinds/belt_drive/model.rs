@@ -1543,6 +1543,11 @@ mod tests {
             crate::kinds::belt_drive::scene::names::BELT_N_ELEMENTS,
             crate::variables::Value::Integer(n_el),
         );
+        // the Lagrangian belt (the shipped serpentine is an ALE belt since session 38)
+        p.set(
+            crate::kinds::belt_drive::scene::names::BELT_FORMULATION,
+            crate::variables::Value::Integer(1),
+        );
         let mut m = BeltDrive::build(scene.tables().unwrap(), &p).unwrap();
         let mut cfg = SolverConfig::from_params(&p);
         // the state this test checks the Jacobian in was chosen with full Newton
