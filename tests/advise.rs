@@ -230,8 +230,12 @@ fn belt_drive_advice_is_checkable() {
     check_advice(&scene, &opts, &a);
 }
 
-/// On the belt the internal-step ladder (1, 0.5, 0.25 ms) does not converge on pulley1.torque
-/// over 0.1 s: the advisor says so and gives no advice rather than a meaningless one.
+/// On the belt the internal-step ladder (1, 0.5, 0.25 ms) does not resolve pulley1.torque over
+/// 0.1 s to 5e-2 N m: the advisor gives no advice rather than a meaningless one. (Until session
+/// 38 the ladder did not even converge, through an artefact: the study sets input derivatives,
+/// and each one restarted the integrator's accelerations at every communication step; now it
+/// converges at first order with an estimated error of 18 N m for the finest run, so the family
+/// is trusted and no configuration meets the tolerance.)
 #[test]
 fn belt_drive_step_ladder_is_refused() {
     let scene = coarse_belt();
@@ -247,7 +251,12 @@ fn belt_drive_step_ladder_is_refused() {
     .map(String::from)
     .to_vec();
     let a = advise(&scene, &opts).unwrap();
-    assert!(a.families[0].warning.is_some(), "{}", report::summary(&a));
+    let f = &a.families[0];
+    assert!(
+        f.warning.is_some() || f.uncertainty > opts.tol,
+        "{}",
+        report::summary(&a)
+    );
     assert_eq!(a.chosen, None);
     let e = report::advised_scene(&scene, &a).unwrap_err();
     assert!(e.contains("no advice"), "{e}");
