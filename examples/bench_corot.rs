@@ -102,8 +102,10 @@ fn main() {
     let inertia = best_ns(nn, reps, || {
         for n in &nodes {
             let v = rates(n);
-            mc.fill(0.0);
-            k.fill(0.0);
+            // (`Mat12::zeros()`, not `fill(0.0)`: the fill compiled to a slow loop that cost
+            // more than the kernel, session 38, helper b3inert)
+            mc = Mat12::zeros();
+            k = Mat12::zeros();
             el.inertia_force(
                 black_box(n),
                 &v,
