@@ -797,6 +797,21 @@ fn serpentine_ale() -> String {
     with_belt_key("serpentine.toml", "formulation = \"ale\"")
 }
 
+/// One communication step `h` from `t` of the serpentine protocol: the crank ramped to `omega`
+/// [rad/s] over 0.1 s (its angle `angle` advanced with the step's mean speed), the A/C
+/// compressor's load to 5 N m over the same time.
+fn serpentine_step(r: &mut Run, t: f64, h: f64, omega: f64, angle: &mut f64) {
+    let ramp = |t: f64| (t / 0.1).min(1.0);
+    let w = 0.5 * omega * (ramp(t) + ramp(t + h));
+    r.set("pulley1.angle", *angle);
+    r.set("pulley1.omega", w);
+    r.set("pulley7.torque_in", -5.0 * ramp(t));
+    r.sim
+        .advance(t + h)
+        .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
+    *angle += w * h;
+}
+
 /// The serpentine scene `text` with `solver.max_step` = `h_max`: the crank ramped to `omega`
 /// over 0.1 s, the A/C compressor's load to 5 N m over the same time, steady running to
 /// 0.4 s (communication step 1 ms); the means over the last 0.1 s of the speeds of pulleys
@@ -814,15 +829,7 @@ fn serpentine_steady(text: &str, h_max: f64, omega: f64) -> Vec<f64> {
     let (mut angle, mut sum, mut k) = (0.0, vec![0.0; names.len()], 0);
     for i in 0..(t_end / h).round() as usize {
         let t = i as f64 * h;
-        let ramp = |t: f64| (t / 0.1).min(1.0);
-        let w = 0.5 * omega * (ramp(t) + ramp(t + h));
-        r.set("pulley1.angle", angle);
-        r.set("pulley1.omega", w);
-        r.set("pulley7.torque_in", -5.0 * ramp(t));
-        r.sim
-            .advance(t + h)
-            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
-        angle += w * h;
+        serpentine_step(&mut r, t, h, omega, &mut angle);
         if t + h > t_end - 0.1 + 1e-9 {
             for (s, n) in sum.iter_mut().zip(&names) {
                 *s += r.out(n);
@@ -883,15 +890,7 @@ fn ale_serpentine_at_800_rpm_iterates_little() {
         if i == 300 {
             s0 = r.sim.stats();
         }
-        let ramp = |t: f64| (t / 0.1).min(1.0);
-        let w = 0.5 * omega * (ramp(t) + ramp(t + h));
-        r.set("pulley1.angle", angle);
-        r.set("pulley1.omega", w);
-        r.set("pulley7.torque_in", -5.0 * ramp(t));
-        r.sim
-            .advance(t + h)
-            .unwrap_or_else(|e| panic!("t = {t}: {}", e.message));
-        angle += w * h;
+        serpentine_step(&mut r, t, h, omega, &mut angle);
     }
     let s = r.sim.stats();
     let it = (s.newton.iterations - s0.newton.iterations) as f64 / 100.0;
