@@ -228,7 +228,8 @@ fn runs() -> usize {
     std::env::var("BENCH_RUNS").map_or(3, |s| s.parse().expect("BENCH_RUNS: an integer"))
 }
 
-/// `BENCH_FORCES=dir` writes each level-2 run's `top.fz` history to `dir/level2_<n>.txt`.
+/// `BENCH_FORCES=dir` writes each level-2 run's `top.fz` history to `dir/level2_<n>.txt` (level 1:
+/// `dir/level1_<nc>x<nm>.txt`).
 /// When `BENCH_SKIP_ERRORS` is set, the level-2 table skips the quasi-static reference solves
 /// (the run error column shows NaN): for quick timings.
 fn skip_errors() -> bool {
@@ -325,10 +326,12 @@ fn level3(rows: &mut Vec<Row>) {
 }
 
 /// Level 1: the shell over meshes, the first quarter second of the same sine.
-fn level1(rows: &mut Vec<Row>) {
+fn level1(rows: &mut Vec<Row>, extra: &[(&'static str, Value)]) {
     let sc = scene("air_spring");
     let f_ref = reference_force();
-    let duration = 0.25;
+    // `BENCH_L1_DURATION=1.0` runs longer (default the first 0.25 s)
+    let duration: f64 = std::env::var("BENCH_L1_DURATION")
+        .map_or(0.25, |s| s.parse().expect("BENCH_L1_DURATION: seconds"));
     println!(
         "## Level 1 (shell, scenes/air_spring.toml): the same sine for its first {duration} s, one run per mesh\n"
     );
@@ -351,14 +354,21 @@ fn level1(rows: &mut Vec<Row>) {
         Err(_) => vec![(12, 30), (16, 40), (24, 40), (32, 60)],
     };
     for (nc, nm) in meshes {
-        let ov = vec![
+        let mut ov = vec![
             ("mesh.n_circumferential", Value::Integer(nc)),
             ("mesh.n_meridional", Value::Integer(nm)),
         ];
+        ov.extend_from_slice(extra);
         let run = sine_run_for(&sc, &ov, duration);
         if let Some(msg) = run.failed.as_ref() {
             println!("| {nc} × {nm} | {:.3} | {msg} ||||||", run.setup);
             continue;
+        }
+        if let Ok(dir) = std::env::var("BENCH_FORCES") {
+            // the top.fz history, one value per communication step, for comparing settings
+            let path = Path::new(&dir).join(format!("level1_{nc}x{nm}.txt"));
+            let text: String = run.force.iter().map(|f| format!("{f:.17e}\n")).collect();
+            std::fs::write(&path, text).unwrap();
         }
         let steps = run.steps as f64;
         let per_s = run.wall / duration;
@@ -578,7 +588,7 @@ fn main() {
         level3(&mut rows);
     }
     if run("level1") {
-        level1(&mut rows);
+        level1(&mut rows, &extra);
     }
     if run("fmi") {
         fmi_rows();

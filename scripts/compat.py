@@ -120,10 +120,11 @@ def quiet():
 # bits (libcosim counts integer nanoseconds); the FMU keeps its Newton iteration matrix across
 # such a difference (src/solver/newton.rs, same_coeffs), so only round-off propagates, amplified
 # by the pendulum's large rotation most, and by the air spring's quasi-static steps (contact points
-# on the piston, the predictor: 1.2e-10 since its level-2 mesh is graded, session 32). (Before the
+# on the piston, the predictor: 1.2e-10 since its level-2 mesh is graded, session 32; 4.9e-10 since
+# its Newton tolerance is 1e-7 instead of 1e-8, session 39). (Before the
 # matrix was kept, a refactorization there moved the converged state by up to the Newton
 # tolerance: 9.8e-5 on the belt drive.)
-AGREEMENT = {"cantilever": 1e-10, "pendulum": 1e-8, "belt_drive": 1e-10, "plate": 1e-10, "air_spring_axisym": 2e-9}
+AGREEMENT = {"cantilever": 1e-10, "pendulum": 1e-8, "belt_drive": 1e-10, "plate": 1e-10, "air_spring_axisym": 5e-9}
 
 
 def versions():

@@ -168,7 +168,7 @@ fn fast_quasi_static_stroke_keeps_the_energy_balance() {
     assert!(numerical < 1e-3 * scale, "{numerical} of {scale}");
 }
 
-/// The shell level offers quasi-static steps too (its scene stays on generalized-α). At the
+/// The shell level offers quasi-static steps too (its scene's default since session 39). At the
 /// shipped mesh (24 × 40) over a 2 Hz, ±5 mm sine its force is generalized-α's within 5e-4 of
 /// the design force once the dynamic start transient has decayed (measured 1.7e-4 after 25 ms),
 /// with no kinetic energy.
