@@ -181,6 +181,21 @@ pub struct Belt3d {
     frictionless_preload: bool,
     /// What a refreshed kept matrix is made of ([`MechanicalSystem::refreshed_matrix`]).
     refresh: RefreshCache,
+    /// The node orientations and element arc lengths of the step's start, computed once per
+    /// prediction ([`MechanicalSystem::predict`]).
+    predict_scratch: PredictScratch,
+}
+
+/// Per-step buffers of the transport predictor (allocated at the first use, reused after):
+/// every node's orientation and every element's centre-line length at the start of the step,
+/// which the prediction of each node reads several times (issue 13 item 5, session 39: they
+/// were recomputed about seven and two times per node).
+#[derive(Clone, Debug, Default)]
+struct PredictScratch {
+    /// Node orientations `R_i`.
+    frames: Vec<UnitQuaternion<f64>>,
+    /// Element `e`'s centre-line length [m]: its chord times `(φ/2)/sin(φ/2)`.
+    arcs: Vec<f64>,
 }
 
 /// The parts of the last evaluations that refresh a kept iteration matrix whose contact set
@@ -462,6 +477,7 @@ impl Belt3d {
             anchor: None,
             frictionless_preload: false,
             refresh: RefreshCache::default(),
+            predict_scratch: PredictScratch::default(),
         };
         me.signals = me
             .spec
@@ -1668,17 +1684,23 @@ impl MechanicalSystem for Belt3d {
         self.st.asm.dofs.expand(v0, &mut vf);
         let n = self.n_nodes;
         let at = |k: usize| Vector3::from_column_slice(&qf[k * NODE_DOFS..k * NODE_DOFS + 3]);
-        let tangent = |k: usize| self.node_orientation(k, &qf) * Vector3::x();
+        let mut ps = std::mem::take(&mut self.predict_scratch);
+        ps.frames.clear();
+        ps.frames
+            .extend((0..n).map(|k| self.node_orientation(k, &qf)));
+        let tangent = |k: usize| ps.frames[k] * Vector3::x();
         // length of element e's centre line [m]: its chord times (φ/2)/sin(φ/2), the arc
         // through the chord turning by the angle φ between the node tangents
-        let arc = |e: usize| {
+        ps.arcs.clear();
+        for e in 0..n {
             let half = 0.5 * tangent(e).angle(&tangent((e + 1) % n));
             let f = if half > 1e-8 { half / half.sin() } else { 1.0 };
-            (at((e + 1) % n) - at(e)).norm() * f
-        };
+            ps.arcs.push((at((e + 1) % n) - at(e)).norm() * f);
+        }
+        let arc = |e: usize| ps.arcs[e];
         for i in 0..n {
             let k = i * NODE_DOFS;
-            let ri = self.node_orientation(i, &qf);
+            let ri = ps.frames[i];
             let t = ri * Vector3::x();
             let vel = Vector3::from_column_slice(&vf[k..k + 3]);
             let vt = vel.dot(&t);
@@ -1705,7 +1727,7 @@ impl MechanicalSystem for Belt3d {
             }
             let xi = (s / lc).clamp(0.0, 1.0);
             let (a, b) = (e, (e + 1) % n);
-            let (qa, qb) = (self.node_orientation(a, &qf), self.node_orientation(b, &qf));
+            let (qa, qb) = (ps.frames[a], ps.frames[b]);
             // cubic Hermite centre line with end tangents R e₁ times the element's length
             // (the element's own are scaled by l0: on a stretched span this one moves the
             // material uniformly, the element's would be off by up to 0.1 (l − l0))
@@ -1750,6 +1772,7 @@ impl MechanicalSystem for Belt3d {
             }
         }
         (self.st.qw, self.st.vw, self.st.aw) = (qf, vf, pred);
+        self.predict_scratch = ps;
         true
     }
 
