@@ -108,13 +108,27 @@ impl Pulley3d {
     /// [`Self::frame`] and the radial vector `d_r` of the point `r`.
     #[inline]
     fn frame_radial(&self, r: &Vector3<f64>) -> (PointFrame, Vector3<f64>) {
+        let (zeta, rho, dr) = self.radial(r);
+        (self.frame_of(zeta, rho, &dr), dr)
+    }
+
+    /// Axial position ζ, radius ρ and radial vector `d_r` of the point `r`: the part of
+    /// [`Self::frame_radial`] the contact tests need.
+    #[inline(always)]
+    fn radial(&self, r: &Vector3<f64>) -> (f64, f64, Vector3<f64>) {
         let d = r - self.center;
         let zeta = self.axis.dot(&d);
         let dr = d - zeta * self.axis;
-        let rho = dr.norm();
+        (zeta, dr.norm(), dr)
+    }
+
+    /// The frame of a point with axial position `zeta`, radius `rho`, radial vector `dr`
+    /// ([`Self::radial`]).
+    #[inline(always)]
+    fn frame_of(&self, zeta: f64, rho: f64, dr: &Vector3<f64>) -> PointFrame {
         let e = if rho > 0.0 { dr / rho } else { self.u1 };
         let t = self.axis.cross(&e);
-        (PointFrame { zeta, rho, e, t }, dr)
+        PointFrame { zeta, rho, e, t }
     }
 
     /// Polar angle φ [rad] about the axis from `u1` of a point with radial vector `dr` (an
@@ -291,7 +305,8 @@ pub struct Pulley3dContact {
 }
 
 /// The rim contact of a point: its force and torque and, with `tangent`, their derivatives
-/// added into `res`; returns whether the rim touches. Without `tangent` (a residual-only
+/// added into `res`, and its polar angle `res.phi` (from the radial vector `dr` of the frame
+/// `fr`); returns whether the rim touches. Without `tangent` (a residual-only
 /// evaluation: modified Newton's kept matrix, the line search) `res.k`, `res.c` are left
 /// alone; every other output is computed by the same operations either way.
 #[allow(clippy::too_many_arguments)]
@@ -303,7 +318,7 @@ fn rim(
     theta: f64,
     omega: f64,
     hist: &Pulley3dHistory,
-    fr: &PointFrame,
+    (fr, dr): (&PointFrame, &Vector3<f64>),
     tangent: bool,
     res: &mut Pulley3dContact,
 ) -> bool {
@@ -327,6 +342,8 @@ fn rim(
     if pr <= 0.0 {
         return false;
     }
+    // the polar angle (an `atan2`) only for a point that presses on the rim
+    res.phi = pul.polar_angle_of(dr);
 
     // slip increment and rate in (t, a)
     let dphi = wrap_angle(res.phi - hist.polar_angle());
@@ -542,20 +559,21 @@ pub fn evaluate_parts_into(
     tangent: bool,
     res: &mut Pulley3dContact,
 ) -> bool {
-    let (fr, dr) = pul.frame_radial(&p.r);
+    let (zeta, rho, dr) = pul.radial(&p.r);
     // the tests of `rim` and `flanges` before anything else (most points near a pulley do
-    // not touch it)
+    // not touch it), and the point's frame (three divisions) only after them
     let maybe_rim = w_rim > 0.0
-        && fr.zeta.abs() < pul.half_width + pul.belt_half_width
-        && fr.rho > 0.0
-        && fr.rho - pul.rim_radius(fr.zeta).0 < 0.0;
+        && zeta.abs() < pul.half_width + pul.belt_half_width
+        && rho > 0.0
+        && rho - pul.rim_radius(zeta).0 < 0.0;
     let maybe_flange = w_flange > 0.0
         && pul.flange_top > pul.radius
-        && fr.rho < pul.flange_top
-        && fr.zeta.abs() + pul.belt_half_width - pul.half_width > 0.0;
+        && rho < pul.flange_top
+        && zeta.abs() + pul.belt_half_width - pul.half_width > 0.0;
     if !(maybe_rim || maybe_flange) {
         return false;
     }
+    let fr = pul.frame_of(zeta, rho, &dr);
     *res = Pulley3dContact {
         force: Vector3::zeros(),
         torque: 0.0,
@@ -568,14 +586,30 @@ pub fn evaluate_parts_into(
         slip_increment: [0.0; 2],
         normal_energy: 0.0,
         dissipation: 0.0,
-        phi: pul.polar_angle_of(&dr),
+        // set by `rim`, or below for a point on the flanges only
+        phi: f64::NAN,
         k: Matrix4::zeros(),
         c: Matrix4::zeros(),
     };
-    let on_rim = maybe_rim && rim(pul, law, w_rim, p, theta, omega, hist, &fr, tangent, res);
+    let on_rim = maybe_rim
+        && rim(
+            pul,
+            law,
+            w_rim,
+            p,
+            theta,
+            omega,
+            hist,
+            (&fr, &dr),
+            tangent,
+            res,
+        );
     let on_flange = maybe_flange && flanges(pul, law, w_flange, p, &fr, tangent, res);
     if !(on_rim || on_flange) {
         return false;
+    }
+    if !on_rim {
+        res.phi = pul.polar_angle_of(&dr);
     }
     res.moment = (p.r - pul.center).cross(&(-res.force));
     true
