@@ -1052,6 +1052,50 @@ mod tests {
         assert_eq!(Pulley3dHistory::restore(&mut r).unwrap(), h);
     }
 
+    /// Every result carries the polar angle of its point, taken after the contact tests.
+    #[test]
+    fn every_contact_carries_its_polar_angle() {
+        // the polar angle is taken after the contact tests: on the rim, on a flange only
+        // (above the rim), on both; a reused result buffer gives the returned result
+        let pul = pulley(0.0);
+        let zeta = -0.0062;
+        let h = Pulley3dHistory::default();
+        let mut buf = Pulley3dContact::default();
+        for (k, (rho, zeta, rim, flange)) in [
+            (pul.radius - 1e-5, 0.0, true, false),
+            (pul.radius + 1e-3, zeta, false, true),
+            (pul.radius - 3e-5, zeta, true, true),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let phi = 0.3 + k as f64;
+            let m = PointMotion {
+                r: at(&pul, phi, rho, zeta),
+                v: Vector3::zeros(),
+            };
+            let c = evaluate(&pul, &law(), 4e-3, &m, 0.0, 1.0, &h).expect("in contact");
+            assert_eq!(c.pressure > 0.0, rim, "{c:?}");
+            assert_eq!(c.flange_force != 0.0, flange, "{c:?}");
+            let (_, dr) = pul.frame_radial(&m.r);
+            assert_eq!(c.phi.to_bits(), pul.polar_angle_of(&dr).to_bits());
+            assert!((c.phi - phi).abs() < 1e-12);
+            assert!(evaluate_parts_into(
+                &pul,
+                &law(),
+                4e-3,
+                4e-3,
+                &m,
+                0.0,
+                1.0,
+                &h,
+                true,
+                &mut buf
+            ));
+            assert_eq!(buf, c);
+        }
+    }
+
     /// A pair committed out of contact keeps its polar angle untaken: the angle taken later
     /// is the one the commit would have taken (to the bit, in every quadrant), it survives a
     /// snapshot, its bristle is unloaded, and the slip increment of a point landing from it is
