@@ -65,7 +65,9 @@ use super::obstacle::{Obstacle, ObstacleContact, PointMotion};
 use super::point_set::{
     ContactBook, ObstacleLoad, read_histories, read_loads, write_histories, write_loads,
 };
-use super::pulley3d::{Pulley3d, Pulley3dContact, Pulley3dHistory, evaluate_parts};
+use super::pulley3d::{
+    Pulley3d, Pulley3dContact, Pulley3dHistory, evaluate_parts, evaluate_parts_into,
+};
 use crate::assembly::Connectivity;
 use crate::elements::element::Frame;
 use crate::elements::node_frames::NodeFrames;
@@ -454,6 +456,7 @@ impl SectionContactSet {
             .as_ref()
             .map_or((0.0, 0.0), |(c, _)| (c.stiffness, c.damping));
         let mut mb = Block::zeros();
+        let mut res = Pulley3dContact::default();
         let mut sig = 0u64;
         for (e, nodes) in self.elements.iter().enumerate() {
             if !(0..no).any(|k| self.element_near(e * no + k, k, q)) {
@@ -480,7 +483,7 @@ impl SectionContactSet {
                         let kin = self.kinematics(b, st, j, &rot, conform, q, v);
                         let (ob, w_rim, w_fl) = self.pulley_for(j, k);
                         let h = &self.hist[((e * ns + i) * np + j) * no + k];
-                        let Some(res) = evaluate_parts(
+                        if !evaluate_parts_into(
                             ob,
                             &self.law,
                             w_rim,
@@ -490,9 +493,10 @@ impl SectionContactSet {
                             omega,
                             h,
                             jac.is_some(),
-                        ) else {
+                            &mut res,
+                        ) {
                             continue;
-                        };
+                        }
                         sig = sig.wrapping_add(contact_key(((e * ns + i) * np + j) * no + k));
                         if !any && jac.is_some() {
                             mb.fill(0.0);

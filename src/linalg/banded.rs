@@ -124,11 +124,15 @@ impl BandedLu {
                 col[skip..].fill(0.0);
             }
         }
+        // the largest magnitude by a plain comparison (one `maxsd` on the loop's dependency
+        // chain, not `f64::max`'s NaN handling): a NaN or infinity is reported below, and for
+        // finite values the maximum is the same
         let mut scale = 0.0f64;
         let mut finite = true;
         for (idx, v) in entries {
             finite &= v.is_finite();
-            scale = scale.max(v.abs());
+            let a = v.abs();
+            scale = if a > scale { a } else { scale };
             self.ab[idx] = v;
         }
         if !finite {

@@ -131,6 +131,12 @@ impl BorderedBanded {
                 k += 1;
             }
         }
+        // The core values in band-storage order: `factor` then writes the band storage
+        // front to back and gathers from the values (each band position is the destination
+        // of one value, so the factorization's input is the same in any order). In the
+        // pattern's order the writes jump across the permuted band; 120-element 3D belt:
+        // the scatter was 27 % of the banded factorization's samples (session 39).
+        core_dest.sort_unstable_by_key(|&(_, i)| i);
         Some(Self {
             n,
             nb,
