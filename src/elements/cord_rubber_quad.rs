@@ -150,30 +150,41 @@ impl CordRubberQuad {
             let c = [g1.dot(&g1), g2.dot(&g2), g1.dot(&g2)];
             let e = self.wall.surface_with(&c, &p.reference, k.is_some());
             u += e.w * p.weight;
-            if f.is_none() && k.is_none() {
-                continue;
-            }
             // ∂C_p/∂x_i: C₁₁ → 2 N_i,ξ g₁, C₂₂ → 2 N_i,η g₂, C₁₂ → N_i,ξ g₂ + N_i,η g₁
-            let mut dc = [Vec12::zeros(); 3];
-            for i in 0..4 {
-                let [a, b] = p.dn[i];
-                dc[0]
-                    .fixed_rows_mut::<3>(3 * i)
-                    .copy_from(&(g1 * (2.0 * a)));
-                dc[1]
-                    .fixed_rows_mut::<3>(3 * i)
-                    .copy_from(&(g2 * (2.0 * b)));
-                dc[2]
-                    .fixed_rows_mut::<3>(3 * i)
-                    .copy_from(&(g2 * a + g1 * b));
-            }
             if let Some(f) = f.as_deref_mut() {
-                for (d, s) in dc.iter().zip(e.grad.iter()) {
-                    f.axpy(s * p.weight, d, 1.0);
+                // f += Σ_p (∂W/∂C_p w) ∂C_p/∂q, node by node: each entry takes the three terms
+                // in the order p = 1, 2, 3 and the roundings of three whole-vector updates
+                let s = [
+                    e.grad[0] * p.weight,
+                    e.grad[1] * p.weight,
+                    e.grad[2] * p.weight,
+                ];
+                for i in 0..4 {
+                    let [a, b] = p.dn[i];
+                    let (a2, b2) = (2.0 * a, 2.0 * b);
+                    for c in 0..3 {
+                        let r = &mut f[3 * i + c];
+                        *r += s[0] * (g1[c] * a2);
+                        *r += s[1] * (g2[c] * b2);
+                        *r += s[2] * (g2[c] * a + g1[c] * b);
+                    }
                 }
             }
             // ------------------------------------------------------------------- tangent
             if let Some(k) = k.as_deref_mut() {
+                let mut dc = [Vec12::zeros(); 3];
+                for i in 0..4 {
+                    let [a, b] = p.dn[i];
+                    dc[0]
+                        .fixed_rows_mut::<3>(3 * i)
+                        .copy_from(&(g1 * (2.0 * a)));
+                    dc[1]
+                        .fixed_rows_mut::<3>(3 * i)
+                        .copy_from(&(g2 * (2.0 * b)));
+                    dc[2]
+                        .fixed_rows_mut::<3>(3 * i)
+                        .copy_from(&(g2 * a + g1 * b));
+                }
                 // B H Bᵀ with B = [∂C₁₁/∂q ∂C₂₂/∂q ∂C₁₂/∂q] (12 × 3)
                 let b = SMatrix::<f64, QUAD_DOFS, 3>::from_columns(&dc);
                 let bh = b * (e.hess * p.weight);

@@ -81,3 +81,23 @@ fn stretched_facet_has_the_axisymmetric_energy() {
         }
     }
 }
+
+/// The force-only path (no tangent asked, no `∂C/∂q` columns built) gives the internal force of
+/// the tangent path to the bit, in every state of the conformance cases.
+#[test]
+fn force_path_is_the_tangent_paths_force_to_the_bit() {
+    for to in [false, true] {
+        let c = case(to);
+        for cfg in &c.states {
+            let s = ElementState::new(cfg.q, SVector::zeros());
+            let (mut f, mut ft) = (SVector::zeros(), SVector::zeros());
+            let mut k = nalgebra::SMatrix::<f64, QUAD_DOFS, QUAD_DOFS>::zeros();
+            let u = c.element.force_into(&s, &mut f);
+            let ut = c.element.tangent_into(&s, &mut ft, &mut k, None);
+            assert_eq!(u.to_bits(), ut.to_bits());
+            for i in 0..QUAD_DOFS {
+                assert_eq!(f[i].to_bits(), ft[i].to_bits(), "{} row {i}", cfg.label);
+            }
+        }
+    }
+}
