@@ -15,7 +15,7 @@ const G: [f64; 2] = [0.211_324_865_405_187_1, 0.788_675_134_594_812_9];
 
 /// Shape functions and their derivatives `(N, N_ξ, N_η)` at `(ξ, η)`.
 #[inline]
-fn shape(xi: f64, eta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
+const fn shape(xi: f64, eta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
     (
         [
             (1.0 - xi) * (1.0 - eta),
@@ -45,6 +45,31 @@ fn interpolate(
     (p, a, b)
 }
 
+/// [`shape`] at the 2 × 2 Gauss points in the order of [`gauss_points`], evaluated once at
+/// compile time (the same values as at run time: IEEE arithmetic either way).
+const SHAPES: [([f64; 4], [f64; 4], [f64; 4]); 4] = [
+    shape(G[0], G[0]),
+    shape(G[0], G[1]),
+    shape(G[1], G[0]),
+    shape(G[1], G[1]),
+];
+
+/// `(x_ξ, x_η)` of the patch [m] (the two last of [`interpolate`], in the same order of
+/// operations).
+#[inline]
+fn tangents(
+    x: &[Vector3<f64>; 4],
+    dxi: &[f64; 4],
+    deta: &[f64; 4],
+) -> (Vector3<f64>, Vector3<f64>) {
+    let (mut a, mut b) = (Vector3::zeros(), Vector3::zeros());
+    for i in 0..4 {
+        a += x[i] * dxi[i];
+        b += x[i] * deta[i];
+    }
+    (a, b)
+}
+
 /// The 2 × 2 Gauss points on [0, 1]² with weight 1/4 each.
 #[inline]
 fn gauss_points() -> impl Iterator<Item = (f64, f64)> {
@@ -71,9 +96,8 @@ pub fn pressure_into(
         k.fill(0.0);
     }
     let w = 0.25 * p;
-    for (xi, eta) in gauss_points() {
-        let (n, dxi, deta) = shape(xi, eta);
-        let (_, a, b) = interpolate(x, &n, &dxi, &deta);
+    for (n, dxi, deta) in &SHAPES {
+        let (a, b) = tangents(x, dxi, deta);
         let nrm = a.cross(&b) * w;
         for i in 0..4 {
             let mut fi = f.fixed_rows_mut::<3>(3 * i);
