@@ -420,7 +420,6 @@ impl<E: Element<N>, const N: usize> ElementSet<E, N> {
                 v: self.gather(e, x.v),
                 frames: &buf[..self.n_frames],
             };
-            let ae = self.gather(e, x.a);
             let el = self.element(e);
             match (self.mass_vals.is_some(), el.constant_mass_matrix()) {
                 (true, Some(m)) => {
@@ -438,7 +437,8 @@ impl<E: Element<N>, const N: usize> ElementSet<E, N> {
                         None => u += el.force_into(&s, &mut fe),
                     }
                     if inertia {
-                        fe.gemv(1.0, m, &ae, 1.0);
+                        // the accelerations are gathered only where the inertia force needs them
+                        fe.gemv(1.0, m, &self.gather(e, x.a), 1.0);
                     }
                     if gravity {
                         let mut qg = SVector::<f64, N>::zeros();
@@ -446,13 +446,16 @@ impl<E: Element<N>, const N: usize> ElementSet<E, N> {
                         fe -= qg;
                     }
                 }
-                _ => match jac.as_mut() {
-                    Some((c, vals)) => {
-                        u += el.residual_into(&s, &ae, &x.g, &mut fe, Some((*c, &mut me)));
-                        self.conn.add_matrix(e, &me, 1.0, vals);
+                _ => {
+                    let ae = self.gather(e, x.a);
+                    match jac.as_mut() {
+                        Some((c, vals)) => {
+                            u += el.residual_into(&s, &ae, &x.g, &mut fe, Some((*c, &mut me)));
+                            self.conn.add_matrix(e, &me, 1.0, vals);
+                        }
+                        None => u += el.residual_into(&s, &ae, &x.g, &mut fe, None),
                     }
-                    None => u += el.residual_into(&s, &ae, &x.g, &mut fe, None),
-                },
+                }
             }
             self.conn.add_vector(e, &fe, 1.0, f);
         }
