@@ -208,6 +208,39 @@ impl CordRubberQuad {
     }
 }
 
+#[cfg(test)]
+impl CordRubberQuad {
+    /// The internal force [N] the way the element formed it before session 39: the three
+    /// columns `∂C_p/∂q` built as 12-vectors and added with `axpy`; the reference for the
+    /// node-by-node force of [`CordRubberQuad::evaluate`] (which must agree to the bit).
+    pub(crate) fn force_by_columns(&self, q: &Vec12) -> Vec12 {
+        let x: [Vector3<f64>; 4] = std::array::from_fn(|i| q.fixed_rows::<3>(3 * i).into_owned());
+        let mut f = Vec12::zeros();
+        for p in &self.points {
+            let (g1, g2) = tangents(&x, &p.dn);
+            let c = [g1.dot(&g1), g2.dot(&g2), g1.dot(&g2)];
+            let e = self.wall.surface_with(&c, &p.reference, false);
+            let mut dc = [Vec12::zeros(); 3];
+            for i in 0..4 {
+                let [a, b] = p.dn[i];
+                dc[0]
+                    .fixed_rows_mut::<3>(3 * i)
+                    .copy_from(&(g1 * (2.0 * a)));
+                dc[1]
+                    .fixed_rows_mut::<3>(3 * i)
+                    .copy_from(&(g2 * (2.0 * b)));
+                dc[2]
+                    .fixed_rows_mut::<3>(3 * i)
+                    .copy_from(&(g2 * a + g1 * b));
+            }
+            for (d, s) in dc.iter().zip(e.grad.iter()) {
+                f.axpy(s * p.weight, d, 1.0);
+            }
+        }
+        f
+    }
+}
+
 /// Tangent vectors `(x_ξ, x_η)` of the bilinear patch through `x`.
 fn tangents(x: &[Vector3<f64>; 4], dn: &[[f64; 2]; 4]) -> (Vector3<f64>, Vector3<f64>) {
     let mut a = Vector3::zeros();
