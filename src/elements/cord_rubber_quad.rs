@@ -172,19 +172,7 @@ impl CordRubberQuad {
             }
             // ------------------------------------------------------------------- tangent
             if let Some(k) = k.as_deref_mut() {
-                let mut dc = [Vec12::zeros(); 3];
-                for i in 0..4 {
-                    let [a, b] = p.dn[i];
-                    dc[0]
-                        .fixed_rows_mut::<3>(3 * i)
-                        .copy_from(&(g1 * (2.0 * a)));
-                    dc[1]
-                        .fixed_rows_mut::<3>(3 * i)
-                        .copy_from(&(g2 * (2.0 * b)));
-                    dc[2]
-                        .fixed_rows_mut::<3>(3 * i)
-                        .copy_from(&(g2 * a + g1 * b));
-                }
+                let dc = strain_columns(&g1, &g2, &p.dn);
                 // B H Bᵀ with B = [∂C₁₁/∂q ∂C₂₂/∂q ∂C₁₂/∂q] (12 × 3)
                 let b = SMatrix::<f64, QUAD_DOFS, 3>::from_columns(&dc);
                 let bh = b * (e.hess * p.weight);
@@ -208,6 +196,26 @@ impl CordRubberQuad {
     }
 }
 
+/// The three columns `∂C₁₁/∂q`, `∂C₂₂/∂q`, `∂C₁₂/∂q` (12-vectors) of the surface metric
+/// `C = [g₁·g₁, g₂·g₂, g₁·g₂]` at a point with tangents `g1`, `g2` and shape-function
+/// derivatives `dn` (per node `[∂N/∂ξ, ∂N/∂η]`).
+fn strain_columns(g1: &Vector3<f64>, g2: &Vector3<f64>, dn: &[[f64; 2]; 4]) -> [Vec12; 3] {
+    let mut dc = [Vec12::zeros(); 3];
+    for i in 0..4 {
+        let [a, b] = dn[i];
+        dc[0]
+            .fixed_rows_mut::<3>(3 * i)
+            .copy_from(&(g1 * (2.0 * a)));
+        dc[1]
+            .fixed_rows_mut::<3>(3 * i)
+            .copy_from(&(g2 * (2.0 * b)));
+        dc[2]
+            .fixed_rows_mut::<3>(3 * i)
+            .copy_from(&(g2 * a + g1 * b));
+    }
+    dc
+}
+
 #[cfg(test)]
 impl CordRubberQuad {
     /// The internal force [N] the way the element formed it before session 39: the three
@@ -220,19 +228,7 @@ impl CordRubberQuad {
             let (g1, g2) = tangents(&x, &p.dn);
             let c = [g1.dot(&g1), g2.dot(&g2), g1.dot(&g2)];
             let e = self.wall.surface_with(&c, &p.reference, false);
-            let mut dc = [Vec12::zeros(); 3];
-            for i in 0..4 {
-                let [a, b] = p.dn[i];
-                dc[0]
-                    .fixed_rows_mut::<3>(3 * i)
-                    .copy_from(&(g1 * (2.0 * a)));
-                dc[1]
-                    .fixed_rows_mut::<3>(3 * i)
-                    .copy_from(&(g2 * (2.0 * b)));
-                dc[2]
-                    .fixed_rows_mut::<3>(3 * i)
-                    .copy_from(&(g2 * a + g1 * b));
-            }
+            let dc = strain_columns(&g1, &g2, &p.dn);
             for (d, s) in dc.iter().zip(e.grad.iter()) {
                 f.axpy(s * p.weight, d, 1.0);
             }
